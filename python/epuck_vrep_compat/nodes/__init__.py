@@ -1,0 +1,1 @@
+"""nodes layer of epuck_vrep_compat."""

@@ -1,0 +1,1 @@
+"""ros layer of epuck_vrep_compat."""

@@ -1,0 +1,1 @@
+"""scene layer of epuck_vrep_compat."""

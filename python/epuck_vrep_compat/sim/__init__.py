@@ -1,0 +1,1 @@
+"""sim layer of epuck_vrep_compat."""

@@ -1,0 +1,14 @@
+# Used by catkin_python_setup(); not for pip.
+from setuptools import setup
+from catkin_pkg.python_setup import generate_distutils_setup
+
+setup(**generate_distutils_setup(
+    packages=[
+        "epuck_vrep_compat",
+        "epuck_vrep_compat.scene",
+        "epuck_vrep_compat.sim",
+        "epuck_vrep_compat.ros",
+        "epuck_vrep_compat.nodes",
+    ],
+    package_dir={"": "python"},
+))
