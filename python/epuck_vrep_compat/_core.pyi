@@ -1,0 +1,228 @@
+"""Type stub of epuck_vrep_compat._core, the C++ core (see include/epuck_vrep_compat/)."""
+from typing import List, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+ArrayLike = Union[npt.ArrayLike, Sequence[float]]
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int32]
+
+GROUP_STATIC: int  # 1: walls, fixed obstacles
+GROUP_ROBOT: int  # 2: robot bodies
+GROUP_FLOOR: int  # 4: the ground; robots never touch it, IR cones never see it
+GROUP_DYNAMIC: int  # 8: movable objects (fixed for contact resolution)
+GROUP_ALL: int  # 15: every group, as a ray or camera mask
+
+class Rng:
+    """Seeded xoshiro256** generator (splitmix64 seeding), reproducible bit for bit."""
+
+    def __init__(self, seed: int) -> None: ...
+    def uniform(self) -> float:
+        """A uniform draw in (0, 1]."""
+    def normal(self) -> float:
+        """sqrt(-2 ln U1) cos(2 pi U2): one standard normal per two uniforms."""
+    def state_digest(self) -> int:
+        """A 64-bit digest of the generator state."""
+
+def apply_range_noise(
+    clean: ArrayLike,
+    min_range_m: float,
+    max_range_m: float,
+    probability: float,
+    mean_m: float,
+    stddev_m: float,
+    seed: int,
+) -> Tuple[FloatArray, npt.NDArray[np.bool_]]:
+    """V-REP e-puck IR noise on readings (M,); returns (noisy (M,), applied (M,) bool).
+
+    Raises ValueError for probability outside [0, 1], negative stddev_m, non-finite values.
+    """
+
+class CollisionWorld:
+    """Bullet collision world of boxes, cylinders and spheres keyed by int handles >= 0.
+
+    Unknown handles raise KeyError; bad arguments (a used handle, non-finite or wrongly
+    shaped arrays, sizes <= 0, colours outside [0, 1], a group that is not one GROUP_ bit)
+    raise ValueError.
+    """
+
+    def __init__(self) -> None: ...
+    def add_box(
+        self,
+        handle: int,
+        half_extents: ArrayLike,
+        position: ArrayLike,
+        quaternion: ArrayLike,
+        rgb: ArrayLike,
+        group: int = ...,
+    ) -> None:
+        """Adds a box; quaternion is (x, y, z, w); group defaults to GROUP_STATIC."""
+    def add_cylinder(
+        self,
+        handle: int,
+        radius: float,
+        height: float,
+        position: ArrayLike,
+        quaternion: ArrayLike,
+        rgb: ArrayLike,
+        group: int = ...,
+    ) -> None:
+        """Adds a cylinder with its axis along local z, centred at position."""
+    def add_sphere(
+        self,
+        handle: int,
+        radius: float,
+        position: ArrayLike,
+        quaternion: ArrayLike,
+        rgb: ArrayLike,
+        group: int = ...,
+    ) -> None:
+        """Adds a sphere."""
+    def set_pose(self, handle: int, position: ArrayLike, quaternion: ArrayLike) -> None: ...
+    def get_pose(self, handle: int) -> Tuple[FloatArray, FloatArray]:
+        """Returns (position (3,), quaternion x, y, z, w (4,))."""
+    def remove(self, handle: int) -> None: ...
+    def has(self, handle: int) -> bool: ...
+    def handles(self) -> List[int]:
+        """Every handle, ascending."""
+    def set_color(self, handle: int, rgb: ArrayLike) -> None: ...
+    def set_background(self, rgb: ArrayLike) -> None: ...
+    def ray_cast(
+        self,
+        origins: ArrayLike,
+        directions: ArrayLike,
+        max_distance_m: float,
+        ignore_handle: int = -1,
+        mask: int = ...,
+    ) -> Tuple[FloatArray, IntArray, FloatArray]:
+        """Rays (M, 3); returns (distance (M,) +inf for none, handle (M,) -1 for none,
+        world normal (M, 3)). Releases the GIL."""
+    def render(
+        self,
+        position: ArrayLike,
+        quaternion: ArrayLike,
+        width: int,
+        height: int,
+        vertical_fov_rad: float,
+        near_m: float,
+        far_m: float,
+        ignore_handle: int = -1,
+        mask: int = ...,
+    ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
+        """Camera x forward, y left, z up; returns (rgb (H, W, 3), depth (H, W)), row 0 at
+        the top; depth along the optical axis in [near_m, far_m], far_m for no hit."""
+
+class ConeSensor:
+    """Mount (body frame: x forward, y left, z up from the ground) and cone of an IR sensor."""
+
+    yaw_rad: float
+    pitch_rad: float  # positive tilts the axis down
+    half_angle_rad: float
+    min_range_m: float
+    max_range_m: float
+    rings: int
+    azimuths: int  # even
+    def __init__(
+        self,
+        position: ArrayLike = ...,
+        yaw_rad: float = 0.0,
+        pitch_rad: float = 0.0,
+        half_angle_rad: float = 0.2617993878,
+        min_range_m: float = 0.0015,
+        max_range_m: float = 0.05,
+        rings: int = 2,
+        azimuths: int = 16,
+    ) -> None: ...
+    @property
+    def position(self) -> Tuple[float, float, float]: ...
+    @position.setter
+    def position(self, value: ArrayLike) -> None: ...
+
+class EpuckModel:
+    """e-puck geometry and limits with V-REP's defaults."""
+
+    wheel_radius_m: float
+    wheel_separation_m: float
+    body_radius_m: float
+    body_height_m: float
+    max_wheel_speed_rad_s: float
+    sensors: List[ConeSensor]  # a copy on read: edit, then assign the whole list back
+    gravity_m_s2: float
+    def __init__(
+        self,
+        wheel_radius_m: float = 0.02,
+        wheel_separation_m: float = 0.053,
+        body_radius_m: float = 0.037,
+        body_height_m: float = 0.045,
+        max_wheel_speed_rad_s: float = 6.283185307,
+        sensors: List[ConeSensor] = ...,
+        gravity_m_s2: float = 9.81,
+    ) -> None: ...
+
+class EpuckSwarm:
+    """N e-pucks stepped together; K = len(model.sensors) (8 by default).
+
+    Rows are robot indices. Wheel columns are (left, right).
+    """
+
+    def __init__(self, world: CollisionWorld, model: EpuckModel, seed: int) -> None: ...
+    def add_robot(self, handle: int, x: float, y: float, yaw: float) -> int: ...
+    @property
+    def size(self) -> int: ...
+    @property
+    def sensor_count(self) -> int: ...
+    def set_ir_noise(
+        self, probability: ArrayLike, mean_m: ArrayLike, stddev_m: ArrayLike
+    ) -> None:
+        """Each (N, K)."""
+    def set_imu_noise(self, accel_stddev: ArrayLike, gyro_stddev: ArrayLike) -> None:
+        """Each (N, 3)."""
+    def set_slip_noise(self, stddev: ArrayLike) -> None:
+        """(N,)."""
+    def reseed(self, seed: int) -> None: ...
+    def step(self, dt_s: float, wheel_cmd: ArrayLike) -> None:
+        """wheel_cmd (N, 2) rad/s; non-finite commands stop that robot. Releases the GIL."""
+    def set_pose(self, index: int, x: float, y: float, yaw: float) -> None: ...
+    def set_odometry(self, index: int, x: float, y: float, yaw: float) -> None: ...
+    def sensor_model(self, i: int) -> ConeSensor: ...
+    @property
+    def poses(self) -> FloatArray:
+        """(N, 3) x, y, yaw."""
+    @property
+    def velocities(self) -> FloatArray:
+        """(N, 3) vx, vy (world), yaw rate."""
+    @property
+    def wheel_speeds(self) -> FloatArray:
+        """(N, 2) rad/s after clamp and slip."""
+    @property
+    def wheel_angles(self) -> FloatArray:
+        """(N, 2) rad, cumulative."""
+    @property
+    def odometry(self) -> FloatArray:
+        """(N, 5) x, y, yaw, v, w."""
+    @property
+    def ranges_clean(self) -> FloatArray:
+        """(N, K) m; max_range_m where nothing is detected."""
+    @property
+    def ranges(self) -> FloatArray:
+        """(N, K) m, with noise."""
+    @property
+    def detected_handles(self) -> IntArray:
+        """(N, K), -1 for none."""
+    @property
+    def detected_points(self) -> FloatArray:
+        """(N, K, 3) sensor frame, zeros for none."""
+    @property
+    def detected_normals(self) -> FloatArray:
+        """(N, K, 3) sensor frame, zeros for none."""
+    @property
+    def accel(self) -> FloatArray:
+        """(N, 3) body-frame specific force, m/s^2 (+g on z at rest)."""
+    @property
+    def gyro(self) -> FloatArray:
+        """(N, 3) rad/s."""
+    @property
+    def frame(self) -> int: ...
+    @property
+    def handles(self) -> IntArray: ...

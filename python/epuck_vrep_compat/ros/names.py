@@ -1,0 +1,97 @@
+"""Every compatibility name of the e-puck topic profiles, defined once.
+
+Profile ``vrep`` reproduces the V-REP e-puck model (andrei91ro/epuck_vrep_ros.lua): absolute
+topics ``/ePuckK/...``, frames ``ePuckK/...`` under a shared ``odom``.
+Profile ``epuck_driver`` reproduces the real robot's driver (gctronic/epuck_driver_cpp, the
+``multi_epuck.launch`` layout): namespace ``epuck_robot_K``, commands under ``mobile_base/``.
+"""
+from dataclasses import dataclass
+from typing import Dict, Tuple
+
+ODOM_FRAME = "odom"
+PROXIMITY_COUNT = 8
+
+
+@dataclass(frozen=True)
+class RangeProfile:
+    """Fixed fields of the ``sensor_msgs/Range`` messages a profile publishes."""
+
+    field_of_view_rad: float
+    min_range_m: float
+    max_range_m: float
+
+
+@dataclass(frozen=True)
+class TopicProfile:
+    """Names and message conventions of one face of a simulated e-puck."""
+
+    name: str
+    robot_name_format: str          # robot index -> robot name
+    topic_prefix_format: str        # robot name -> topic prefix (absolute)
+    topics: Dict[str, str]          # role -> topic name relative to the prefix
+    frame_format: str               # (robot name, frame) -> frame id
+    range: RangeProfile
+    imu_role: str                   # the role whose topic carries sensor_msgs/Imu
+    odom_tf_from_odometry: bool     # odom -> base_link from wheel odometry (else ground truth)
+    publishes_odometry: bool
+    publishes_scan: bool
+
+    def robot_name(self, index: int) -> str:
+        return self.robot_name_format.format(index=index)
+
+    def topic(self, robot_name: str, role: str) -> str:
+        return self.topic_prefix_format.format(robot=robot_name) + self.topics[role]
+
+    def frame(self, robot_name: str, frame: str) -> str:
+        return self.frame_format.format(robot=robot_name, frame=frame)
+
+
+_COMMON_TOPICS = {f"proximity{i}": f"proximity{i}" for i in range(PROXIMITY_COUNT)}
+
+VREP = TopicProfile(
+    name="vrep",
+    robot_name_format="ePuck{index}",
+    topic_prefix_format="/{robot}/",
+    topics=dict(_COMMON_TOPICS, imu="imu", camera="camera", camera_info="camera_info",
+                cmd_vel="cmd_vel", cmd_led="cmd_led", led_state="led_state",
+                ground_truth="ground_truth"),
+    frame_format="{robot}/{frame}",
+    # field_of_view 30 degrees, min 1.5 mm, max = noDetectionDistance 5 cm (epuck_vrep_ros.lua)
+    range=RangeProfile(field_of_view_rad=0.52359878, min_range_m=0.0015, max_range_m=0.05),
+    imu_role="imu",
+    odom_tf_from_odometry=False,
+    publishes_odometry=False,
+    publishes_scan=False,
+)
+
+EPUCK_DRIVER = TopicProfile(
+    name="epuck_driver",
+    robot_name_format="epuck_robot_{index}",
+    topic_prefix_format="/{robot}/",
+    topics=dict(_COMMON_TOPICS, imu="accel", camera="camera", camera_info="camera_info",
+                cmd_vel="mobile_base/cmd_vel", cmd_led="mobile_base/cmd_led",
+                led_state="led_state", odom="odom", scan="scan",
+                ground_truth="ground_truth"),
+    frame_format="{robot}/{frame}",
+    # field_of_view 0.26, min 5 mm, max 5 cm (epuck_driver_cpp.cpp)
+    range=RangeProfile(field_of_view_rad=0.26, min_range_m=0.005, max_range_m=0.05),
+    imu_role="imu",
+    odom_tf_from_odometry=True,
+    publishes_odometry=True,
+    publishes_scan=True,
+)
+
+PROFILES: Dict[str, TopicProfile] = {p.name: p for p in (VREP, EPUCK_DRIVER)}
+
+# Child frames under <robot>/base_link, in the order V-REP's script sends them.
+BASE_FRAME = "base_link"
+PROX_FRAME_FORMAT = "base_prox{i}"
+WHEEL_FRAMES: Tuple[str, str] = ("left_wheel", "right_wheel")
+BODY_TOP_FRAME = "body_top"
+CAMERA_FRAME = "camera_optical"      # REP 103 optical frame; V-REP used the literal "a"
+LASER_FRAME = "base_laser"            # epuck_driver profile only
+
+# Driver's laser-scan emulation (epuck_driver_cpp): 19 beams from -90 to +90 degrees.
+SCAN_BEAMS = 19
+ROBOT_RADIUS_M = 0.035
+LED_COUNT = 10                         # 8 ring + body + front (driver's LED_NUMBER)

@@ -1,0 +1,130 @@
+"""Private parameters of the simulator node: read once, validated, summarised in one line.
+
+An unusable value raises :class:`ParamError` naming the parameter; the node then exits non-zero.
+"""
+import math
+from dataclasses import dataclass, field
+
+import rospy
+
+from epuck_vrep_compat.ros.commands import SCALINGS
+from epuck_vrep_compat.ros.names import PROFILES
+from epuck_vrep_compat.sim.noise import (
+    IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
+
+
+class ParamError(ValueError):
+    """A parameter value the node cannot run with."""
+
+
+@dataclass
+class CameraParams:
+    width: int = 160
+    height: int = 120
+    rate_hz: float = 10.0
+    vertical_fov_rad: float = 0.6435     # 0.84 rad horizontal at 4:3 (Webots' e-puck camera)
+    near_m: float = 0.005
+    far_m: float = 2.0
+
+
+@dataclass
+class SimParams:
+    world: str = ""
+    n: int = 1
+    profile: str = "vrep"
+    seed: int = 0
+    rtf: float = 1.0
+    step_s: float = 0.05
+    paused: bool = False
+    cmd_vel_scaling: str = "si"
+    cmd_timeout_s: float = 1.0
+    accel_sign: str = "ros"
+    publish_ground_truth: bool = True
+    camera: CameraParams = field(default_factory=CameraParams)
+    noise: NoiseSettings = field(default_factory=NoiseSettings)
+
+    def summary(self) -> str:
+        return (f"world={self.world} n={self.n} profile={self.profile} seed={self.seed} "
+                f"noise={'on' if self.noise.enabled else 'off'} rtf={self.rtf} "
+                f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
+                f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
+                f"{self.camera.width}x{self.camera.height}@{self.camera.rate_hz}Hz")
+
+
+def _get(name, default, kind, check=None, what=""):
+    value = rospy.get_param("~" + name, default)
+    if kind is float and isinstance(value, int) and not isinstance(value, bool):
+        value = float(value)
+    if kind is int and isinstance(value, float) and value.is_integer():
+        value = int(value)
+    if not isinstance(value, kind) or isinstance(value, bool) != (kind is bool):
+        raise ParamError(f"parameter '~{name}' must be {kind.__name__}, got {value!r}")
+    if kind is float and not math.isfinite(value):
+        raise ParamError(f"parameter '~{name}' must be finite, got {value!r}")
+    if check is not None and not check(value):
+        raise ParamError(f"parameter '~{name}' {what}, got {value!r}")
+    return value
+
+
+def read_params(default_world: str) -> SimParams:
+    p = SimParams()
+    p.world = _get("world", default_world, str, lambda v: v != "", "must name a scene file")
+    p.n = _get("n", 1, int, lambda v: 1 <= v <= 100000, "must be between 1 and 100000")
+    p.profile = _get("profile", "vrep", str, lambda v: v in PROFILES,
+                     f"must be one of {sorted(PROFILES)}")
+    p.seed = _get("seed", 0, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")
+    p.rtf = _get("rtf", 1.0, float, lambda v: v >= 0.0, "must be >= 0 (0 = as fast as possible)")
+    p.step_s = _get("step_s", 0.05, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
+    p.paused = _get("paused", False, bool)
+    p.cmd_vel_scaling = _get("cmd_vel_scaling", "si", str, lambda v: v in SCALINGS,
+                             f"must be one of {list(SCALINGS)}")
+    p.cmd_timeout_s = _get("cmd_timeout_s", 1.0, float, lambda v: v >= 0.0,
+                           "must be >= 0 (0 disables the watchdog)")
+    p.accel_sign = _get("accel_sign", "ros", str, lambda v: v in ("ros", "vrep"),
+                        "must be 'ros' (+9.81 on z at rest) or 'vrep' (-9.81)")
+    p.publish_ground_truth = _get("publish_ground_truth", True, bool)
+    c = p.camera
+    c.width = _get("camera/width", c.width, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    c.height = _get("camera/height", c.height, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    c.rate_hz = _get("camera/rate_hz", c.rate_hz, float, lambda v: v > 0.0, "must be > 0")
+    c.vertical_fov_rad = _get("camera/vertical_fov_rad", c.vertical_fov_rad, float,
+                              lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
+    p.noise = _read_noise(p.n, p.profile)
+    return p
+
+
+def _read_noise(n: int, profile: str) -> NoiseSettings:
+    s = NoiseSettings()
+    s.enabled = _get("noise", True, bool)
+    try:
+        s.ir = _read_ir("ir_noise/", s.ir)
+        s.accel_stddev_m_s2 = triple(rospy.get_param("~imu_noise/accel_stddev_m_s2",
+                                                     s.accel_stddev_m_s2.tolist()),
+                                     "~imu_noise/accel_stddev_m_s2")
+        s.gyro_stddev_rad_s = triple(rospy.get_param("~imu_noise/gyro_stddev_rad_s",
+                                                     s.gyro_stddev_rad_s.tolist()),
+                                     "~imu_noise/gyro_stddev_rad_s")
+        robots = rospy.get_param("~robots", {})
+        if not isinstance(robots, dict):
+            raise ParamError("parameter '~robots' must be a mapping of robot name to overrides")
+        profile_names = {PROFILES[profile].robot_name(i): i for i in range(n)}
+        for name in robots:
+            if name not in profile_names:
+                raise ParamError(f"parameter '~robots/{name}': no robot of that name "
+                                 f"(robots are {PROFILES[profile].robot_name(0)}..)")
+            s.ir_per_robot[profile_names[name]] = _read_ir(f"robots/{name}/ir_noise/", s.ir)
+    except NoiseConfigError as e:
+        raise ParamError(str(e)) from e
+    s.wheel_slip_stddev = _get("wheel_slip_stddev", s.wheel_slip_stddev, float,
+                               lambda v: v >= 0.0, "must be >= 0")
+    return s
+
+
+def _read_ir(prefix: str, base: IrNoise) -> IrNoise:
+    def value(key, default):
+        return rospy.get_param("~" + prefix + key, default.tolist())
+    return IrNoise(
+        probability=per_sensor(value("probability", base.probability),
+                               f"~{prefix}probability", 0.0, 1.0),
+        mean_m=per_sensor(value("mean_m", base.mean_m), f"~{prefix}mean_m"),
+        stddev_m=per_sensor(value("stddev_m", base.stddev_m), f"~{prefix}stddev_m", 0.0))

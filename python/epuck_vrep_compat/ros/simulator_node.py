@@ -1,0 +1,135 @@
+"""The simulator node: parameters in, one simulation, its ROS faces, ``/clock``, and services.
+
+Services (under the node's name, ``/epuck_sim`` by default):
+``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused), ``~pause``, ``~unpause``
+and ``~reset`` (``std_srvs/Empty``).
+"""
+import sys
+import threading
+import time
+
+import rosgraph
+import rospkg
+import rospy
+from rosgraph_msgs.msg import Clock
+from std_srvs.srv import Empty, EmptyResponse
+
+from epuck_vrep_compat.ros.camera_face import CameraFace
+from epuck_vrep_compat.ros.epuck_face import EpuckFace
+from epuck_vrep_compat.ros.led_face import LedFace
+from epuck_vrep_compat.ros.names import PROFILES
+from epuck_vrep_compat.ros.publishing import synchronous_publisher
+from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
+from epuck_vrep_compat.ros.tf_face import TfFace
+from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
+from epuck_vrep_compat.sim.simulation import Simulation
+from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
+from tf2_msgs.msg import TFMessage
+
+MAX_STEPS_PER_CALL = 100000
+_LAG_RESET_S = 0.5       # behind schedule by more than this: stop trying to catch up
+
+
+class SimulatorNode:
+    def __init__(self, params: SimParams):
+        self.params = params
+        scene = load_scene(params.world)
+        profile = PROFILES[params.profile]
+        names = [profile.robot_name(i) for i in range(params.n)]
+        try:
+            self.sim = Simulation(scene, names, params.step_s, params.seed, params.noise,
+                                  params.cmd_timeout_s)
+        except SceneError as e:
+            raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
+        self.paused = params.paused
+        self._lock = threading.Lock()
+        self._clock = synchronous_publisher("/clock", Clock)
+        self._tf_pub = synchronous_publisher("/tf", TFMessage)
+        self.leds = LedFace(profile, self.sim)
+        self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
+                                params.publish_ground_truth, self.leds)
+        self.tf = TfFace(profile, self.sim)
+        self.cameras = CameraFace(profile, self.sim, params.camera)
+        rospy.Service("~step", StepSimulation, self._on_step)
+        rospy.Service("~pause", Empty, self._on_pause)
+        rospy.Service("~unpause", Empty, self._on_unpause)
+        rospy.Service("~reset", Empty, self._on_reset)
+        self.leds.publish()
+
+    # --- services ------------------------------------------------------------------------
+    def _on_step(self, req):
+        if not self.paused:
+            return StepSimulationResponse(False, "the simulation is running; pause it first",
+                                          self.sim.frame, self.sim.time_s)
+        if req.steps > MAX_STEPS_PER_CALL:
+            return StepSimulationResponse(False, f"at most {MAX_STEPS_PER_CALL} steps per call",
+                                          self.sim.frame, self.sim.time_s)
+        with self._lock:
+            for _ in range(req.steps):
+                self._step_and_publish()
+        return StepSimulationResponse(True, "", self.sim.frame, self.sim.time_s)
+
+    def _on_pause(self, _req):
+        self.paused = True
+        rospy.loginfo("simulation paused at t=%.3f s", self.sim.time_s)
+        return EmptyResponse()
+
+    def _on_unpause(self, _req):
+        self.paused = False
+        rospy.loginfo("simulation running from t=%.3f s", self.sim.time_s)
+        return EmptyResponse()
+
+    def _on_reset(self, _req):
+        with self._lock:
+            self.sim.reset()
+        rospy.loginfo("simulation reset: robots at their start poses (time keeps running)")
+        return EmptyResponse()
+
+    # --- the loop ------------------------------------------------------------------------
+    def _step_and_publish(self):
+        self.sim.step()
+        stamp = rospy.Time.from_sec(self.sim.time_s)
+        secs, nsecs = stamp.secs, stamp.nsecs
+        self._clock.publish(Clock(clock=stamp))
+        if self._tf_pub.impl.has_connections():
+            self._tf_pub.publish(self.tf.message(secs, nsecs))
+        self.epucks.publish(secs, nsecs)
+        self.cameras.publish(secs, nsecs)
+        self.leds.publish()
+
+    def spin(self):
+        period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
+        deadline = time.monotonic()
+        while not rospy.is_shutdown():
+            if self.paused:
+                time.sleep(0.01)
+                deadline = time.monotonic()
+                continue
+            with self._lock:
+                self._step_and_publish()
+            if period_s > 0.0:
+                deadline += period_s
+                delay = deadline - time.monotonic()
+                if delay > 0.0:
+                    time.sleep(delay)
+                elif delay < -_LAG_RESET_S:
+                    deadline = time.monotonic()
+
+
+def main():
+    if not rosgraph.is_master_online():
+        sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
+                         "roscore, or start the simulator with roslaunch\n")
+        return 1
+    rospy.init_node("epuck_sim")
+    default_world = rospkg.RosPack().get_path("epuck_vrep_compat") + "/worlds/arena.yaml"
+    try:
+        params = read_params(default_world)
+        node = SimulatorNode(params)
+    except (ParamError, SceneError) as e:
+        rospy.logfatal("epuck_sim cannot start: %s", e)
+        time.sleep(0.5)          # let the log line reach /rosout
+        return 2
+    rospy.loginfo("epuck_sim: %s", params.summary())
+    node.spin()
+    return 0

@@ -1,0 +1,78 @@
+"""The TF tree of every robot, sent as one ``/tf`` message per step, as V-REP's script does.
+
+Per robot: ``odom -> <robot>/base_link`` (ground truth in the ``vrep`` profile, wheel odometry in
+``epuck_driver``), then under base_link: ``base_prox0..7`` (V-REP's ``dummy_proxSensor``
+objects), ``left_wheel``/``right_wheel`` (turning with the wheels), ``body_top`` (``ePuck_ring``),
+``camera_optical`` and, for the driver profile, ``base_laser``. Fixed offsets are read once from
+the scene registry, so the frames and the simulated parts cannot disagree.
+"""
+import numpy as np
+
+from epuck_vrep_compat.ros import names
+from epuck_vrep_compat.ros.wire import TransformBatchWire
+from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
+
+_OPTICAL_FROM_VISION = quat_from_axis_angle((0, 0, 1), np.pi)
+
+
+def robot_child_frames(profile, sim, index):
+    """[(child frame, translation, quaternion or None for wheels)] under base_link."""
+    parts = sim.robots[index].parts
+    out = []
+    for i in range(names.PROXIMITY_COUNT):
+        obj = parts[f"dummy_proxSensor{i}"]
+        out.append((names.PROX_FRAME_FORMAT.format(i=i), obj.local_position, obj.local_quat))
+    for side, frame in zip(("left", "right"), names.WHEEL_FRAMES):
+        joint = parts[f"{side}Joint"]
+        out.append((frame, joint.local_position, None))
+    ring = parts["ring"]
+    out.append((names.BODY_TOP_FRAME, ring.local_position, ring.local_quat))
+    camera = parts["camera"]
+    out.append((names.CAMERA_FRAME, camera.local_position,
+                quat_mul(camera.local_quat, _OPTICAL_FROM_VISION)))
+    if profile.publishes_scan:
+        out.append((names.LASER_FRAME, np.array([0.0, 0.0, 0.034]), np.array([0, 0, 0, 1.0])))
+    return out
+
+
+class TfFace:
+    def __init__(self, profile, sim):
+        self._profile = profile
+        self._sim = sim
+        frames, translations, rotations = [], [], []
+        self._wheel_rows = []
+        n = sim.size
+        children = robot_child_frames(profile, sim, 0)
+        self.per_robot = 1 + len(children)
+        for i, robot in enumerate(sim.robot_names):
+            base = profile.frame(robot, names.BASE_FRAME)
+            frames.append((names.ODOM_FRAME, base))
+            translations.append(np.zeros(3))
+            rotations.append(np.array([0, 0, 0, 1.0]))
+            for child, translation, quat in robot_child_frames(profile, sim, i):
+                if quat is None:
+                    self._wheel_rows.append(len(frames))
+                    quat = np.array([0, 0, 0, 1.0])
+                frames.append((base, profile.frame(robot, child)))
+                translations.append(np.asarray(translation, dtype=float))
+                rotations.append(np.asarray(quat, dtype=float))
+        self._wire = TransformBatchWire(frames)
+        self._translations = np.array(translations)
+        self._rotations = np.array(rotations)
+        self._base_rows = np.arange(n) * self.per_robot
+        self._wheel_rows = np.array(self._wheel_rows).reshape(n, 2)
+        self.frames = frames
+
+    def message(self, secs: int, nsecs: int):
+        swarm = self._sim.swarm
+        if self._profile.odom_tf_from_odometry:
+            planar = swarm.odometry[:, :3]
+        else:
+            planar = swarm.poses
+        t = self._translations
+        r = self._rotations
+        t[self._base_rows, 0] = planar[:, 0]
+        t[self._base_rows, 1] = planar[:, 1]
+        r[self._base_rows] = quat_from_yaw(planar[:, 2])
+        r[self._wheel_rows] = quat_from_axis_angle((0, 1, 0), swarm.wheel_angles)
+        return self._wire.pack(secs, nsecs, t, r)

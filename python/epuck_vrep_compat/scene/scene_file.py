@@ -1,0 +1,167 @@
+"""Scene files (YAML): the arena, its obstacles and the robots' start poses.
+
+A malformed file raises :class:`SceneError` naming the offending key, so the node can exit
+non-zero with a message that says what to fix. Lengths are metres, angles radians, colours RGB
+in 0..1. See ``worlds/arena.yaml`` for a commented example.
+"""
+import math
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
+
+import yaml
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be used; the message names the key."""
+
+
+@dataclass
+class Obstacle:
+    name: str
+    shape: str                                   # "box" | "cylinder"
+    position_m: Tuple[float, float]
+    yaw_rad: float = 0.0
+    size_m: Tuple[float, float, float] = (0.1, 0.1, 0.05)   # box: full x, y, z extents
+    radius_m: float = 0.03                                   # cylinder
+    height_m: float = 0.05                                   # cylinder
+    color: Tuple[float, float, float] = (0.8, 0.3, 0.2)
+
+    def footprint_radius_m(self) -> float:
+        if self.shape == "box":
+            return 0.5 * math.hypot(self.size_m[0], self.size_m[1])
+        return self.radius_m
+
+
+@dataclass
+class RobotStart:
+    position_m: Tuple[float, float]
+    yaw_rad: float = 0.0
+
+
+@dataclass
+class Arena:
+    size_m: Tuple[float, float] = (1.0, 1.0)
+    wall_height_m: float = 0.05
+    wall_thickness_m: float = 0.01
+    wall_color: Tuple[float, float, float] = (0.55, 0.55, 0.6)
+    floor_color: Tuple[float, float, float] = (0.85, 0.85, 0.8)
+
+
+@dataclass
+class Scene:
+    arena: Arena = field(default_factory=Arena)
+    obstacles: List[Obstacle] = field(default_factory=list)
+    robots: List[RobotStart] = field(default_factory=list)
+    source: Optional[str] = None
+
+
+def load_scene(path: str) -> Scene:
+    try:
+        with open(path, "r", encoding="utf-8") as f:
+            data = yaml.safe_load(f)
+    except OSError as e:
+        raise SceneError(f"cannot read scene file '{path}': {e.strerror}") from e
+    except yaml.YAMLError as e:
+        raise SceneError(f"scene file '{path}' is not valid YAML: {e}") from e
+    scene = parse_scene(data if data is not None else {}, where=path)
+    scene.source = path
+    return scene
+
+
+def parse_scene(data, where: str = "scene") -> Scene:
+    if not isinstance(data, dict):
+        raise SceneError(f"{where}: the top level must be a mapping")
+    _only(data, {"arena", "obstacles", "robots"}, where)
+    arena = _arena(data.get("arena", {}), f"{where}: arena")
+    obstacles = [_obstacle(o, i, f"{where}: obstacles[{i}]")
+                 for i, o in enumerate(_list(data.get("obstacles", []), f"{where}: obstacles"))]
+    names = [o.name for o in obstacles]
+    if len(set(names)) != len(names):
+        raise SceneError(f"{where}: obstacles: names must be unique")
+    robots = [_robot(r, f"{where}: robots[{i}]")
+              for i, r in enumerate(_list(data.get("robots", []), f"{where}: robots"))]
+    return Scene(arena, obstacles, robots)
+
+
+def _arena(d, where) -> Arena:
+    if not isinstance(d, dict):
+        raise SceneError(f"{where} must be a mapping")
+    _only(d, {"size_m", "wall_height_m", "wall_thickness_m", "wall_color", "floor_color"}, where)
+    a = Arena()
+    if "size_m" in d:
+        a.size_m = tuple(_numbers(d["size_m"], 2, f"{where}.size_m", positive=True))
+    a.wall_height_m = _positive(d.get("wall_height_m", a.wall_height_m), f"{where}.wall_height_m")
+    a.wall_thickness_m = _positive(d.get("wall_thickness_m", a.wall_thickness_m),
+                                   f"{where}.wall_thickness_m")
+    a.wall_color = _color(d.get("wall_color", a.wall_color), f"{where}.wall_color")
+    a.floor_color = _color(d.get("floor_color", a.floor_color), f"{where}.floor_color")
+    return a
+
+
+def _obstacle(d, index, where) -> Obstacle:
+    if not isinstance(d, dict):
+        raise SceneError(f"{where} must be a mapping")
+    _only(d, {"name", "shape", "position_m", "yaw_rad", "size_m", "radius_m", "height_m",
+              "color"}, where)
+    shape = d.get("shape")
+    if shape not in ("box", "cylinder"):
+        raise SceneError(f"{where}.shape must be 'box' or 'cylinder', got {shape!r}")
+    if "position_m" not in d:
+        raise SceneError(f"{where}.position_m is required")
+    o = Obstacle(name=str(d.get("name", f"obstacle{index}")), shape=shape,
+                 position_m=tuple(_numbers(d["position_m"], 2, f"{where}.position_m")))
+    o.yaw_rad = _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
+    if "size_m" in d:
+        o.size_m = tuple(_numbers(d["size_m"], 3, f"{where}.size_m", positive=True))
+    o.radius_m = _positive(d.get("radius_m", o.radius_m), f"{where}.radius_m")
+    o.height_m = _positive(d.get("height_m", o.height_m), f"{where}.height_m")
+    o.color = _color(d.get("color", o.color), f"{where}.color")
+    return o
+
+
+def _robot(d, where) -> RobotStart:
+    if not isinstance(d, dict):
+        raise SceneError(f"{where} must be a mapping")
+    _only(d, {"position_m", "yaw_rad"}, where)
+    if "position_m" not in d:
+        raise SceneError(f"{where}.position_m is required")
+    return RobotStart(tuple(_numbers(d["position_m"], 2, f"{where}.position_m")),
+                      _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad"))
+
+
+def _only(d, allowed, where):
+    unknown = sorted(set(d) - allowed)
+    if unknown:
+        raise SceneError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+
+
+def _list(v, where):
+    if not isinstance(v, list):
+        raise SceneError(f"{where} must be a list")
+    return v
+
+
+def _number(v, where) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise SceneError(f"{where} must be a finite number, got {v!r}")
+    return float(v)
+
+
+def _positive(v, where) -> float:
+    x = _number(v, where)
+    if x <= 0.0:
+        raise SceneError(f"{where} must be positive, got {v!r}")
+    return x
+
+
+def _numbers(v, n, where, positive=False):
+    if not isinstance(v, (list, tuple)) or len(v) != n:
+        raise SceneError(f"{where} must be a list of {n} numbers, got {v!r}")
+    return [(_positive if positive else _number)(x, where) for x in v]
+
+
+def _color(v, where):
+    c = _numbers(v, 3, where)
+    if any(x < 0.0 or x > 1.0 for x in c):
+        raise SceneError(f"{where} components must be in 0..1, got {v!r}")
+    return tuple(c)

@@ -1,0 +1,86 @@
+"""Rigid transforms as numpy arrays: positions (..., 3), quaternions (..., 4) as x, y, z, w.
+
+Vectorised over leading axes so a step's transforms for every robot are one call.
+"""
+import numpy as np
+
+IDENTITY_QUAT = np.array([0.0, 0.0, 0.0, 1.0])
+
+
+def quat_from_yaw(yaw):
+    """Rotation about z by ``yaw`` [rad]; works on scalars and arrays."""
+    half = 0.5 * np.asarray(yaw, dtype=float)
+    q = np.zeros(half.shape + (4,))
+    q[..., 2] = np.sin(half)
+    q[..., 3] = np.cos(half)
+    return q
+
+
+def quat_from_axis_angle(axis, angle):
+    axis = np.asarray(axis, dtype=float)
+    axis = axis / np.linalg.norm(axis)
+    half = 0.5 * np.asarray(angle, dtype=float)
+    q = np.zeros(half.shape + (4,))
+    q[..., :3] = np.multiply.outer(np.sin(half), axis)
+    q[..., 3] = np.cos(half)
+    return q
+
+
+def quat_from_rpy(roll, pitch, yaw):
+    """Fixed-axis roll, pitch, yaw (ROS convention: R = Rz(yaw) Ry(pitch) Rx(roll))."""
+    return quat_mul(quat_from_axis_angle((0, 0, 1), yaw),
+                    quat_mul(quat_from_axis_angle((0, 1, 0), pitch),
+                             quat_from_axis_angle((1, 0, 0), roll)))
+
+
+def quat_mul(a, b):
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    ax, ay, az, aw = np.moveaxis(a, -1, 0)
+    bx, by, bz, bw = np.moveaxis(b, -1, 0)
+    return np.stack((
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz), axis=-1)
+
+
+def quat_conj(q):
+    q = np.array(q, dtype=float)
+    q[..., :3] *= -1.0
+    return q
+
+
+def quat_rotate(q, v):
+    """Rotate vectors ``v`` (..., 3) by unit quaternions ``q`` (..., 4)."""
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    u = q[..., :3]
+    w = q[..., 3:4]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def compose(p_a, q_a, p_b, q_b):
+    """Pose of frame b in the parent of a, given b in a: (p_a, q_a) * (p_b, q_b)."""
+    return np.asarray(p_a) + quat_rotate(q_a, p_b), quat_mul(q_a, q_b)
+
+
+def inverse(p, q):
+    qi = quat_conj(q)
+    return -quat_rotate(qi, p), qi
+
+
+def yaw_of(q):
+    q = np.asarray(q, dtype=float)
+    x, y, z, w = np.moveaxis(q, -1, 0)
+    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def normalized_quat(q):
+    """Unit quaternion, or None when ``q`` is zero or not finite (callers reject it)."""
+    q = np.asarray(q, dtype=float)
+    n = np.linalg.norm(q)
+    if not np.isfinite(n) or n < 1e-9:
+        return None
+    return q / n

@@ -1,0 +1,209 @@
+"""EpuckSwarm: determinism, independent noise streams, outputs, validation, cost per step."""
+import math
+import time
+
+import numpy as np
+import pytest
+from conftest import GREY, IDENTITY, add_arena, still
+
+from epuck_vrep_compat import _core
+
+DT = 0.05
+ROBOTS = [(100 + i, -0.2 + 0.1 * i, 0.02 * (-1) ** i, 0.7 * i) for i in range(5)]  # 3 cm gaps
+
+
+def noisy_run(seed, steps, reseed=None):
+    """Five robots in a small arena with every noise source on; returns the final swarm."""
+    world = _core.CollisionWorld()
+    add_arena(world, 0.25)
+    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), seed)
+    for robot in ROBOTS:
+        swarm.add_robot(*robot)
+    n = swarm.size
+    swarm.set_ir_noise(np.full((n, 8), 0.5), np.full((n, 8), 0.002), np.full((n, 8), 0.001))
+    swarm.set_imu_noise(np.full((n, 3), 0.05), np.full((n, 3), 0.01))
+    swarm.set_slip_noise(np.full(n, 0.05))
+    if reseed is not None:
+        swarm.reseed(reseed)
+    commands = np.random.default_rng(1234).uniform(-7.0, 7.0, (steps, n, 2))
+    for command in commands:
+        swarm.step(DT, command)
+    return swarm
+
+
+def test_same_seed_is_bit_identical_after_1000_steps():
+    a, b = noisy_run(7, 1000), noisy_run(7, 1000)
+    for name in ("poses", "ranges", "ranges_clean", "accel", "gyro", "odometry", "velocities"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert a.frame == 1000
+
+
+def test_reset_and_rerun_is_bit_identical():
+    world = _core.CollisionWorld()
+    add_arena(world, 0.2)
+    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 3)
+    for robot in ROBOTS:
+        swarm.add_robot(*robot)
+    swarm.set_slip_noise(np.full(swarm.size, 0.05))
+    swarm.set_ir_noise(*(np.full((swarm.size, 8), v) for v in (0.5, 0.002, 0.001)))
+    commands = np.random.default_rng(5).uniform(-7.0, 7.0, (300, swarm.size, 2))
+
+    def run():
+        for i, (_, x, y, yaw) in enumerate(ROBOTS):
+            swarm.set_pose(i, x, y, yaw)
+        swarm.reseed(3)
+        for command in commands:
+            swarm.step(DT, command)
+        return swarm.poses, swarm.ranges, swarm.accel
+
+    first, second = run(), run()
+    assert all(np.array_equal(a, b) for a, b in zip(first, second))
+
+
+def test_different_seed_gives_different_noisy_ranges():
+    assert not np.array_equal(noisy_run(7, 50).ranges, noisy_run(8, 50).ranges)
+
+
+def test_reseed_reproduces_a_run():
+    a, b = noisy_run(7, 200), noisy_run(99, 200, reseed=7)
+    assert np.array_equal(a.poses, b.poses) and np.array_equal(a.ranges, b.ranges)
+
+
+def test_a_robots_noise_does_not_depend_on_the_others(world):
+    add_arena(world, 0.1)
+
+    def run(count):
+        swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 5)
+        for i in range(count):
+            swarm.add_robot(200 * (count + 1) + i, 50.0 * i + 10 * count, 0.0, 0.0)
+        swarm.set_ir_noise(np.full((count, 8), 1.0), np.full((count, 8), 0.003),
+                           np.full((count, 8), 0.001))
+        for _ in range(20):
+            swarm.step(DT, still(swarm))
+        return swarm.ranges[0]
+
+    assert np.array_equal(run(1), run(3))
+
+
+def test_output_shapes_and_types(make_swarm):
+    swarm = make_swarm(ROBOTS)
+    swarm.step(DT, still(swarm))
+    n = len(ROBOTS)
+    shapes = dict(poses=(n, 3), velocities=(n, 3), wheel_speeds=(n, 2), wheel_angles=(n, 2),
+                  odometry=(n, 5), ranges_clean=(n, 8), ranges=(n, 8), detected_handles=(n, 8),
+                  detected_points=(n, 8, 3), detected_normals=(n, 8, 3), accel=(n, 3),
+                  gyro=(n, 3), handles=(n,))
+    for name, shape in shapes.items():
+        assert getattr(swarm, name).shape == shape, name
+    assert swarm.detected_handles.dtype == np.int32 and swarm.handles.dtype == np.int32
+    assert list(swarm.handles) == [r[0] for r in ROBOTS]
+    assert swarm.size == n and swarm.frame == 1
+    # Neighbours are in range; a robot never sees itself.
+    assert (swarm.detected_handles >= 100).any()
+    assert not (swarm.detected_handles == swarm.handles[:, None]).any()
+
+
+def test_ir_noise_applies_and_stays_in_range(make_swarm):
+    swarm = make_swarm(ROBOTS)
+    n = swarm.size
+    swarm.set_ir_noise(np.ones((n, 8)), np.full((n, 8), 0.01), np.full((n, 8), 0.01))
+    swarm.step(DT, still(swarm))
+    assert not np.array_equal(swarm.ranges, swarm.ranges_clean)
+    assert swarm.ranges.min() >= 0.0015 and swarm.ranges.max() <= 0.05
+
+
+@pytest.mark.parametrize(
+    "setter, arguments",
+    [("set_ir_noise", (np.full((1, 8), 1.5), np.zeros((1, 8)), np.zeros((1, 8)))),
+     ("set_ir_noise", (np.zeros((1, 8)), np.zeros((1, 8)), np.full((1, 8), -0.1))),
+     ("set_ir_noise", (np.zeros((1, 7)), np.zeros((1, 7)), np.zeros((1, 7)))),
+     ("set_imu_noise", (np.full((1, 3), -1.0), np.zeros((1, 3)))),
+     ("set_imu_noise", (np.zeros((1, 3)), np.full((1, 3), np.nan))),
+     ("set_slip_noise", (np.array([-0.1]),)),
+     ("set_slip_noise", (np.zeros(2),)),
+     ("step", (0.0, np.zeros((1, 2)))),
+     ("step", (DT, np.zeros((2, 2)))),
+     ("add_robot", (7, math.nan, 0.0, 0.0)),
+     ("set_pose", (0, 0.0, math.inf, 0.0))],
+)
+def test_bad_arguments_raise_value_error(make_swarm, setter, arguments):
+    swarm = make_swarm()
+    with pytest.raises(ValueError):
+        getattr(swarm, setter)(*arguments)
+
+
+def test_bad_indices_and_lost_bodies(world, make_swarm):
+    swarm = make_swarm()
+    with pytest.raises(IndexError):
+        swarm.set_pose(1, 0.0, 0.0, 0.0)
+    with pytest.raises(IndexError):
+        swarm.sensor_model(8)
+    with pytest.raises(ValueError):
+        swarm.add_robot(100, 1.0, 1.0, 0.0)  # handle already used by robot 0
+    world.remove(100)
+    with pytest.raises(KeyError):
+        swarm.step(DT, still(swarm))
+
+
+def timed_swarm(count, spacing_m=0.3):
+    world = _core.CollisionWorld()
+    side = math.ceil(math.sqrt(count))
+    half = side * spacing_m / 2
+    add_arena(world, half)
+    world.add_box(50, (half, half, 0.005), (0, 0, -0.005), IDENTITY, GREY, _core.GROUP_FLOOR)
+    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 3)
+    for i in range(count):
+        row, col = divmod(i, side)
+        swarm.add_robot(1000 + i, -half + spacing_m * (col + 0.5), -half + spacing_m * (row + 0.5),
+                        0.37 * i)
+    swarm.set_ir_noise(np.full((count, 8), 0.16), np.full((count, 8), 0.002),
+                       np.full((count, 8), 0.0005))
+    return world, swarm
+
+
+def test_cost_per_step(capsys):
+    """Not an assertion: prints what a step costs, so the lead can budget the step loop."""
+    lines = []
+    for count in (100, 1000):
+        world, swarm = timed_swarm(count)
+        commands = np.random.default_rng(0).uniform(-6.0, 6.0, (count, 2))
+        swarm.step(DT, commands)
+        start = time.perf_counter()
+        for _ in range(20):
+            swarm.step(DT, commands)
+        lines.append(f"EpuckSwarm.step, N={count} in a {math.ceil(math.sqrt(count)) * 0.3:.1f} m "
+                     f"arena: {(time.perf_counter() - start) / 20 * 1e3:.2f} ms/step")
+    with capsys.disabled():
+        print("\n" + "\n".join(lines))
+
+
+HOSTILE = [math.nan, math.inf, -math.inf, 1e308, -1e308, -0.0, 5e-324]
+
+
+@pytest.mark.parametrize("value", HOSTILE)
+def test_hostile_floats_are_refused_or_harmless(world, make_swarm, value):
+    add_arena(world, 0.2)
+    swarm = make_swarm(ROBOTS[:2])
+    n = swarm.size
+    attempts = [
+        lambda: swarm.step(DT, np.full((n, 2), value)),
+        lambda: swarm.step(value, np.zeros((n, 2))),
+        lambda: swarm.set_pose(0, value, value, value),
+        lambda: swarm.set_odometry(1, value, 0.0, value),
+        lambda: swarm.set_ir_noise(np.full((n, 8), value), np.full((n, 8), value),
+                                   np.full((n, 8), value)),
+        lambda: swarm.set_imu_noise(np.full((n, 3), value), np.full((n, 3), value)),
+        lambda: swarm.set_slip_noise(np.full(n, value)),
+        lambda: swarm.add_robot(300, value, 0.0, value),  # last: it may change N
+    ]
+    for attempt in attempts:
+        try:
+            attempt()
+        except ValueError:
+            pass
+        for _ in range(3):
+            swarm.step(DT, np.full((swarm.size, 2), 3.0))
+        for name in ("poses", "velocities", "wheel_speeds", "wheel_angles", "odometry",
+                     "ranges", "ranges_clean", "detected_points", "detected_normals", "accel",
+                     "gyro"):
+            assert np.isfinite(getattr(swarm, name)).all(), name

@@ -1,0 +1,86 @@
+"""Helpers shared by the rostest clients: waiting for messages, the /rosout guard."""
+import threading
+import time
+
+import rosgraph.masterapi
+import rospy
+from rosgraph_msgs.msg import Log
+
+PKG = "epuck_vrep_compat"
+
+
+def wait_for_message(topic, msg_class, timeout_s=20.0):
+    return rospy.wait_for_message(topic, msg_class, timeout=timeout_s)
+
+
+class Collector:
+    """Keeps every message of a topic (with the wall time it arrived)."""
+
+    def __init__(self, topic, msg_class):
+        self.messages = []
+        self._lock = threading.Lock()
+        self._sub = rospy.Subscriber(topic, msg_class, self._cb, queue_size=1000)
+
+    def _cb(self, msg):
+        with self._lock:
+            self.messages.append(msg)
+
+    def wait(self, count, timeout_s=20.0):
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            with self._lock:
+                if len(self.messages) >= count:
+                    return list(self.messages)
+            time.sleep(0.02)
+        raise AssertionError(f"only {len(self.messages)} of {count} messages on "
+                             f"{self._sub.resolved_name} within {timeout_s} s")
+
+    def latest(self):
+        with self._lock:
+            return self.messages[-1] if self.messages else None
+
+    def clear(self):
+        with self._lock:
+            self.messages = []
+
+    def unregister(self):
+        self._sub.unregister()
+
+
+class RosoutGuard:
+    """Records ERROR/FATAL lines (and warnings, for tests that expect them) on /rosout."""
+
+    def __init__(self):
+        self.errors = []
+        self.warnings = []
+        self._sub = rospy.Subscriber("/rosout", Log, self._cb, queue_size=1000)
+
+    def _cb(self, msg):
+        if msg.level >= Log.ERROR:
+            self.errors.append(f"{msg.name}: {msg.msg}")
+        elif msg.level == Log.WARN:
+            self.warnings.append(f"{msg.name}: {msg.msg}")
+
+
+def sim_time_now():
+    return rospy.get_rostime().to_sec()
+
+
+def wait_sim_time(seconds, timeout_s=60.0):
+    """Sleep ``seconds`` of simulation time (fails if the clock stalls)."""
+    start = sim_time_now()
+    deadline = time.monotonic() + timeout_s
+    while sim_time_now() - start < seconds:
+        if time.monotonic() > deadline:
+            raise AssertionError(f"simulation time advanced only {sim_time_now() - start:.3f} s "
+                                 f"of {seconds} s in {timeout_s} s")
+        time.sleep(0.01)
+
+
+def simulator_topics(node="/epuck_sim"):
+    """(published topics, subscribed topics, topic -> type) of the simulator node."""
+    master = rosgraph.masterapi.Master(rospy.get_name())
+    pubs, subs, _ = master.getSystemState()
+    types = dict(master.getTopicTypes())
+    return ({t for t, nodes in pubs if node in nodes}, {t for t, nodes in subs if node in nodes},
+            types)

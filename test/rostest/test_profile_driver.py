@@ -1,0 +1,72 @@
+#!/usr/bin/python3
+"""Profile epuck_driver, two robots: the real driver's names, types, frames and values."""
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, LaserScan, Range
+
+from sim_test_helpers import PKG, RosoutGuard, simulator_topics, wait_for_message
+
+ROBOTS = ("epuck_robot_0", "epuck_robot_1")
+
+
+class ProfileDriver(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_profile_driver")
+        cls.guard = RosoutGuard()
+        wait_for_message("/clock", Clock)
+
+    def test_topics_and_types(self):
+        published, subscribed, types = simulator_topics()
+        for robot in ROBOTS:
+            expected = {f"/{robot}/proximity{k}": "sensor_msgs/Range" for k in range(8)}
+            expected.update({f"/{robot}/scan": "sensor_msgs/LaserScan",
+                             f"/{robot}/odom": "nav_msgs/Odometry",
+                             f"/{robot}/accel": "sensor_msgs/Imu",
+                             f"/{robot}/camera": "sensor_msgs/Image"})
+            for topic, msg_type in expected.items():
+                self.assertIn(topic, published)
+                self.assertEqual(types[topic], msg_type, topic)
+            self.assertIn(f"/{robot}/mobile_base/cmd_vel", subscribed)
+            self.assertIn(f"/{robot}/mobile_base/cmd_led", subscribed)
+            self.assertNotIn(f"/{robot}/imu", published)
+
+    def test_driver_values(self):
+        msg = wait_for_message("/epuck_robot_1/proximity6", Range)
+        self.assertEqual(msg.header.frame_id, "epuck_robot_1/base_prox6")
+        self.assertAlmostEqual(msg.field_of_view, 0.26, places=6)
+        self.assertAlmostEqual(msg.min_range, 0.005, places=6)
+        self.assertAlmostEqual(msg.max_range, 0.05, places=6)
+        scan = wait_for_message("/epuck_robot_0/scan", LaserScan)
+        self.assertEqual(len(scan.ranges), 19)
+        self.assertEqual(scan.header.frame_id, "epuck_robot_0/base_laser")
+        self.assertAlmostEqual(scan.range_min, 0.04, places=6)
+        self.assertAlmostEqual(scan.range_max, 0.085, places=6)
+        odom = wait_for_message("/epuck_robot_0/odom", Odometry)
+        self.assertEqual(odom.header.frame_id, "odom")
+        self.assertEqual(odom.child_frame_id, "epuck_robot_0/base_link")
+        accel = wait_for_message("/epuck_robot_0/accel", Imu)
+        self.assertEqual(accel.header.frame_id, "epuck_robot_0/base_link")
+        self.assertEqual(accel.orientation.w, 1.0)
+        self.assertEqual(accel.angular_velocity.z, 0.0)
+        self.assertAlmostEqual(accel.linear_acceleration.z, 9.81, delta=0.3)
+
+    def test_tf(self):
+        buf = tf2_ros.Buffer()
+        tf2_ros.TransformListener(buf)
+        for robot in ROBOTS:
+            for child in ("base_link", "base_laser", "base_prox0", "left_wheel", "body_top"):
+                buf.lookup_transform("odom", f"{robot}/{child}", rospy.Time(0),
+                                     rospy.Duration(10.0))
+
+    def test_zz_no_errors_logged(self):
+        self.assertEqual(self.guard.errors, [])
+
+
+if __name__ == "__main__":
+    rostest.rosrun(PKG, "test_profile_driver", ProfileDriver)

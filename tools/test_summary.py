@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""Count what every test tier ran, check it against what exists, print the closing line.
+
+A tier that ran fewer tests than it defines (a rostest that never started, a test file pytest
+did not collect) or that skipped any test fails the run, so nothing passes silently.
+"""
+import glob
+import os
+import re
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def junit_counts(path):
+    """(tests, failures, skipped) of one JUnit XML file, counted from its test cases."""
+    root = ET.parse(path).getroot()
+    cases = list(root.iter("testcase"))
+    failed = sum(1 for c in cases if c.find("failure") is not None or c.find("error") is not None)
+    skipped = sum(1 for c in cases if c.find("skipped") is not None)
+    return len(cases), failed, skipped
+
+
+def expected_pytest(tier):
+    out = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q",
+                          "-p", "no:cacheprovider", os.path.join(REPO, "test", tier)],
+                         capture_output=True, text=True, cwd=REPO).stdout
+    return sum(1 for line in out.splitlines() if "::" in line)
+
+
+def expected_rostest():
+    """Per .test file: test_* methods of its python clients, plus one per hztest."""
+    expected = {}
+    for launch in sorted(glob.glob(os.path.join(REPO, "test", "rostest", "*.test"))):
+        text = open(launch, encoding="utf-8").read()
+        count = 0
+        for test_type in re.findall(r'<test\b[^>]*\btype="([^"]+)"', text):
+            if test_type == "hztest":
+                count += 1
+            else:
+                script = os.path.join(REPO, "test", "rostest", test_type)
+                count += len(re.findall(r"^\s+def test_", open(script, encoding="utf-8").read(),
+                                        re.M))
+        expected[os.path.basename(launch)[:-5]] = count
+    return expected
+
+
+def main(results):
+    ok = True
+    passed = failed = 0
+    for tier in ("core", "unit"):
+        path = os.path.join(results, f"pytest-{tier}.xml")
+        want = expected_pytest(tier)
+        if not os.path.exists(path):
+            print(f"{tier}: no results (pytest did not run)")
+            ok = False
+            failed += want
+            continue
+        tests, fails, skipped = junit_counts(path)
+        print(f"{tier}: {tests} run of {want} defined, {fails} failed, {skipped} skipped")
+        ok &= tests == want and fails == 0 and skipped == 0
+        passed += tests - fails - skipped
+        failed += fails + skipped + max(0, want - tests)
+    for name, want in expected_rostest().items():
+        files = [f for f in glob.glob(os.path.join(results, "rostest", "**", "*.xml"),
+                                      recursive=True)
+                 if not os.path.basename(f).startswith("rosunit-")
+                 and f"rostest-test_rostest_{name}.xml" == os.path.basename(f)]
+        tests = fails = skipped = 0
+        for f in files:
+            t, fl, sk = junit_counts(f)
+            tests, fails, skipped = tests + t, fails + fl, skipped + sk
+        print(f"rostest {name}: {tests} run of {want} defined, {fails} failed, {skipped} skipped")
+        ok &= tests == want and fails == 0 and skipped == 0
+        passed += tests - fails - skipped
+        failed += fails + skipped + max(0, want - tests)
+    print(f"total: {passed} passed, {failed} failed")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
