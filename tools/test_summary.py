@@ -31,19 +31,21 @@ def expected_pytest(tier):
 
 
 def expected_rostest():
-    """Per .test file: test_* methods of its python clients, plus one per hztest."""
+    """{(launch file, test name): number of test cases} for every <test> of every .test file:
+    the test_* methods of a python client, one for an hztest."""
     expected = {}
     for launch in sorted(glob.glob(os.path.join(REPO, "test", "rostest", "*.test"))):
         text = open(launch, encoding="utf-8").read()
-        count = 0
-        for test_type in re.findall(r'<test\b[^>]*\btype="([^"]+)"', text):
+        for tag in re.findall(r"<test\b[^>]*>", text):
+            name = re.search(r'test-name="([^"]+)"', tag).group(1)
+            test_type = re.search(r'type="([^"]+)"', tag).group(1)
             if test_type == "hztest":
-                count += 1
+                count = 1
             else:
                 script = os.path.join(REPO, "test", "rostest", test_type)
-                count += len(re.findall(r"^\s+def test_", open(script, encoding="utf-8").read(),
-                                        re.M))
-        expected[os.path.basename(launch)[:-5]] = count
+                count = len(re.findall(r"^\s+def test_", open(script, encoding="utf-8").read(),
+                                       re.M))
+            expected[(os.path.basename(launch), name)] = count
     return expected
 
 
@@ -63,16 +65,11 @@ def main(results):
         ok &= tests == want and fails == 0 and skipped == 0
         passed += tests - fails - skipped
         failed += fails + skipped + max(0, want - tests)
-    for name, want in expected_rostest().items():
-        files = [f for f in glob.glob(os.path.join(results, "rostest", "**", "*.xml"),
-                                      recursive=True)
-                 if not os.path.basename(f).startswith("rosunit-")
-                 and f"rostest-test_rostest_{name}.xml" == os.path.basename(f)]
-        tests = fails = skipped = 0
-        for f in files:
-            t, fl, sk = junit_counts(f)
-            tests, fails, skipped = tests + t, fails + fl, skipped + sk
-        print(f"rostest {name}: {tests} run of {want} defined, {fails} failed, {skipped} skipped")
+    for (launch, name), want in expected_rostest().items():
+        path = os.path.join(results, "rostest", "epuck_vrep_compat", f"rosunit-{name}.xml")
+        tests, fails, skipped = junit_counts(path) if os.path.exists(path) else (0, 0, 0)
+        print(f"rostest {launch} {name}: {tests} run of {want} defined, {fails} failed, "
+              f"{skipped} skipped")
         ok &= tests == want and fails == 0 and skipped == 0
         passed += tests - fails - skipped
         failed += fails + skipped + max(0, want - tests)

@@ -6,7 +6,7 @@ need not see each other with their 4 cm IR sensors) and steers towards it, keepi
 code: the same node drives two real e-pucks with the driver's frame and topic names.
 
 Parameters: ``~leader_frame`` (ePuck0/base_link), ``~follower_frame`` (ePuck1/base_link),
-``~cmd_vel`` (/ePuck1/cmd_vel), ``~gap_m`` (0.12), ``~k_linear`` (1.0), ``~k_angular`` (3.0),
+``~cmd_vel`` (/ePuck1/cmd_vel), ``~gap_m`` (0.12), ``~k_linear`` (3.0), ``~k_angular`` (3.0),
 ``~max_linear_m_s`` (0.12), ``~max_angular_rad_s`` (2.5), ``~rate_hz`` (20).
 """
 import math
@@ -31,7 +31,7 @@ def main():
     leader = rospy.get_param("~leader_frame", "ePuck0/base_link")
     follower = rospy.get_param("~follower_frame", "ePuck1/base_link")
     gains = dict(gap_m=float(rospy.get_param("~gap_m", 0.12)),
-                 k_linear=float(rospy.get_param("~k_linear", 1.0)),
+                 k_linear=float(rospy.get_param("~k_linear", 3.0)),
                  k_angular=float(rospy.get_param("~k_angular", 3.0)),
                  max_linear=float(rospy.get_param("~max_linear_m_s", 0.12)),
                  max_angular=float(rospy.get_param("~max_angular_rad_s", 2.5)))
