@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "body.hpp"
 #include "epuck_vrep_compat/collision_world.hpp"
 
 namespace evc {
@@ -79,13 +80,18 @@ ConeReading read_cone(const std::vector<const Body*>& candidates, const Pose& se
                       const ConeSensor& sensor, const std::vector<Vec3>& directions) {
   ConeReading best;
   thread_local std::vector<const Body*> in_cone;
+  thread_local std::vector<RayTarget> targets;
   cull_to_cone(candidates, sensor_pose, sensor.half_angle_rad, sensor.max_range_m, in_cone);
-  if (in_cone.empty()) return best;
+  targets.clear();
+  for (const Body* body : in_cone) {
+    const RayTarget target = ray_target(*body, sensor_pose.position_m);
+    if (target.min_distance_m <= sensor.max_range_m) targets.push_back(target);
+  }
+  if (targets.empty()) return best;
   const Eigen::Matrix3d rotation = sensor_pose.orientation.toRotationMatrix();
   for (const Vec3& direction : directions) {
     const double limit = std::min(best.distance_m, sensor.max_range_m);
-    const RayHit hit = CollisionWorld::ray_cast_bodies(in_cone, sensor_pose.position_m,
-                                                       rotation * direction, limit);
+    const RayHit hit = ray_cast_targets(targets, rotation * direction, limit);
     if (hit.handle < 0 || hit.distance_m >= best.distance_m) continue;
     best.distance_m = hit.distance_m;
     best.handle = hit.handle;

@@ -22,11 +22,11 @@ const Body& body_of(const btBroadphaseProxy* proxy) {
   return *static_cast<const Body*>(object->getUserPointer());
 }
 
-// Tests one body in its own frame and keeps the hit if it is the closest so far.
-void test_body(const Body& body, const btVector3& origin, const btVector3& direction,
+// Tests one body in its own frame (the ray's origin already there) and keeps the hit if it is
+// the closest so far.
+void test_body(const Body& body, const btVector3& local_origin, const btVector3& direction,
                RayHit& best) {
   const btTransform& transform = body.object->getWorldTransform();
-  const btVector3 local_origin = transform.invXform(origin);
   const btVector3 local_direction = direction * transform.getBasis();  // = R^T d
   double t = 0.0;
   btVector3 normal;
@@ -41,6 +41,27 @@ void test_body(const Body& body, const btVector3& origin, const btVector3& direc
   best.rgb = body.rgb;
 }
 
+// Distance from a point to a primitive, both in the primitive's frame; 0 inside.
+double distance_to_primitive(const Primitive& primitive, const btVector3& point) {
+  switch (primitive.kind) {
+    case Primitive::Kind::kBox: {
+      btVector3 outside = point.absolute() - primitive.half_extents;
+      outside.setMax(btVector3(0, 0, 0));
+      return outside.length();
+    }
+    case Primitive::Kind::kCylinder: {
+      // Coordinates are within ±kWorldLimit_m, so the squares cannot overflow.
+      const double radial = std::max(
+          std::sqrt(point.x() * point.x() + point.y() * point.y()) - primitive.radius_m, 0.0);
+      const double axial = std::max(std::abs(point.z()) - primitive.half_height_m, 0.0);
+      return std::sqrt(radial * radial + axial * axial);
+    }
+    case Primitive::Kind::kSphere:
+      return std::max(point.length() - primitive.radius_m, 0.0);
+  }
+  return 0.0;
+}
+
 class RayCollector : public btDbvt::ICollide {
  public:
   RayCollector(const btVector3& origin, const btVector3& direction, int ignore_handle, int mask,
@@ -51,7 +72,7 @@ class RayCollector : public btDbvt::ICollide {
   void Process(const btDbvtNode* leaf) override {
     const Body& body = body_of(static_cast<const btBroadphaseProxy*>(leaf->data));
     if (body.handle == ignore_ || (body.group & mask_) == 0) return;
-    test_body(body, origin_, direction_, best_);
+    test_body(body, body.object->getWorldTransform().invXform(origin_), direction_, best_);
   }
 
  private:
@@ -172,7 +193,31 @@ RayHit CollisionWorld::ray_cast_bodies(const std::vector<const Body*>& bodies, c
   const btVector3 from = to_bt(origin);
   const btVector3 direction = to_bt(direction_unit);
   RayHit best = no_hit(max_distance_m);
-  for (const Body* body : bodies) test_body(*body, from, direction, best);
+  for (const Body* body : bodies) {
+    test_body(*body, body->object->getWorldTransform().invXform(from), direction, best);
+  }
+  return finished(best);
+}
+
+RayTarget ray_target(const Body& body, const Vec3& origin) {
+  const btVector3 local_origin = body.object->getWorldTransform().invXform(to_bt(origin));
+  // Shrunk by far more than the rounding of either this distance or a ray's hit parameter,
+  // both computed from the same local origin.
+  const btVector3 magnitude = local_origin.absolute();
+  const double rounding_m = 1e-9 * (1.0 + magnitude[magnitude.maxAxis()]);
+  return RayTarget{&body, local_origin,
+                   distance_to_primitive(body.primitive, local_origin) - rounding_m};
+}
+
+RayHit ray_cast_targets(const std::vector<RayTarget>& targets, const Vec3& direction_unit,
+                        double max_distance_m) {
+  const btVector3 direction = to_bt(direction_unit);
+  RayHit best = no_hit(max_distance_m);
+  for (const RayTarget& target : targets) {
+    // Every hit on this body lies beyond the reach left: test_body would refuse it.
+    if (target.min_distance_m > best.distance_m) continue;
+    test_body(*target.body, target.local_origin, direction, best);
+  }
   return finished(best);
 }
 

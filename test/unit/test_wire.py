@@ -1,6 +1,7 @@
-"""The pre-serialised encoders must produce exactly genpy's bytes."""
+"""The pre-serialised layouts must produce exactly genpy's bytes, frame by frame."""
 import io
 import math
+import struct
 
 import numpy as np
 from geometry_msgs.msg import TransformStamped
@@ -8,62 +9,71 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, Range
 from tf2_msgs.msg import TFMessage
 
-from epuck_vrep_compat.ros.wire import ImuWire, OdometryWire, RangeWire, TransformBatchWire
+from epuck_vrep_compat.ros import wire
 
 
-def _genpy_bytes(msg):
+def _framed(msg):
     buff = io.BytesIO()
     msg.serialize(buff)
-    return buff.getvalue()
+    body = buff.getvalue()
+    return struct.pack("<I", len(body)) + body
 
 
-def _wire_bytes(wire_msg):
-    buff = io.BytesIO()
-    wire_msg.serialize(buff)
-    return buff.getvalue()
+def _stamp(msg, secs, nsecs, frame_id):
+    msg.header.stamp.secs, msg.header.stamp.nsecs = secs, nsecs
+    msg.header.frame_id = frame_id
+    return msg
 
 
-def test_range_matches_genpy():
-    msg = Range(radiation_type=Range.INFRARED, field_of_view=0.52359878, min_range=0.0015,
-                max_range=0.05, range=0.0321)
-    msg.header.stamp.secs, msg.header.stamp.nsecs = 12, 500000000
-    msg.header.frame_id = "ePuck3/base_prox5"
-    wire = RangeWire("ePuck3/base_prox5", Range.INFRARED, 0.52359878, 0.0015, 0.05)
-    packed = wire.pack(12, 500000000, 0.0321)
-    assert packed._md5sum == Range._md5sum
-    assert _wire_bytes(packed) == _genpy_bytes(msg)
+def test_range_batch_matches_genpy():
+    frames = ["ePuck3/base_prox5", "ePuck12/base_prox0", "x"]
+    batch = wire.range_batch(frames, Range.INFRARED, 0.52359878, 0.0015, 0.05)
+    values = np.array([0.0321, 0.05, 0.0015])
+    data = batch.pack(12, 500000000, range=values)
+    for i, (frame, value) in enumerate(zip(frames, values)):
+        msg = _stamp(Range(radiation_type=Range.INFRARED, field_of_view=0.52359878,
+                           min_range=0.0015, max_range=0.05, range=value), 12, 500000000, frame)
+        assert batch.frame(data, i) == _framed(msg)
+    assert batch.msg_class._md5sum == Range._md5sum
 
 
-def test_imu_matches_genpy_both_conventions():
+def test_imu_batch_matches_genpy_both_conventions():
+    accel = np.array([[0.1, -0.2, 9.81], [1.0, 2.0, 3.0]])
+    gyro = np.array([[0.0, 0.0, 0.5], [-1.0, 0.25, 0.0]])
+    frames = ["ePuck0/base_link", "epuck_robot_11/base_link"]
     for known in (False, True):
-        msg = Imu()
-        msg.header.stamp.secs, msg.header.stamp.nsecs = 3, 7
-        msg.header.frame_id = "ePuck0/base_link"
-        msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = 0.1, -0.2, 9.81
-        msg.angular_velocity.z = 0.5
-        msg.linear_acceleration_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
-        msg.angular_velocity_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
-        if known:
-            msg.orientation.w = 1.0
-            msg.orientation_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
-        else:
-            msg.orientation.w = 0.0
-        wire = ImuWire("ePuck0/base_link", orientation_known=known)
-        packed = wire.pack(3, 7, (0.1, -0.2, 9.81), (0.0, 0.0, 0.5))
-        assert _wire_bytes(packed) == _genpy_bytes(msg)
+        batch = wire.imu_batch(frames, orientation_known=known)
+        data = batch.pack(3, 7, accel=accel, gyro=gyro)
+        for i, frame in enumerate(frames):
+            msg = _stamp(Imu(), 3, 7, frame)
+            (msg.linear_acceleration.x, msg.linear_acceleration.y,
+             msg.linear_acceleration.z) = accel[i]
+            msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = gyro[i]
+            msg.linear_acceleration_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
+            msg.angular_velocity_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
+            if known:
+                msg.orientation.w = 1.0
+                msg.orientation_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
+            else:
+                msg.orientation.w = 0.0
+            assert batch.frame(data, i) == _framed(msg)
 
 
-def test_odometry_matches_genpy():
-    msg = Odometry()
-    msg.header.stamp.secs = 100
-    msg.header.frame_id = "odom"
-    msg.child_frame_id = "epuck_robot_1/base_link"
-    yaw = 1.2
-    msg.pose.pose.position.x, msg.pose.pose.position.y = 0.3, -0.4
-    msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-    msg.twist.twist.linear.x, msg.twist.twist.angular.z = 0.05, -0.3
-    packed = OdometryWire("odom", "epuck_robot_1/base_link").pack(100, 0, 0.3, -0.4, yaw, 0.05, -0.3)
-    assert _wire_bytes(packed) == _genpy_bytes(msg)
+def test_odometry_batch_matches_genpy():
+    children = ["epuck_robot_1/base_link", "ePuck0/base_link"]
+    batch = wire.odometry_batch("odom", children)
+    x, y, yaw = np.array([0.3, -1.0]), np.array([-0.4, 2.0]), np.array([1.2, -3.0])
+    v, w = np.array([0.05, 0.0]), np.array([-0.3, 1.5])
+    data = batch.pack(100, 0, **wire.planar_odometry_values(x, y, yaw, v, w))
+    for i, child in enumerate(children):
+        msg = _stamp(Odometry(), 100, 0, "odom")
+        msg.child_frame_id = child
+        msg.pose.pose.position.x, msg.pose.pose.position.y = x[i], y[i]
+        msg.pose.pose.orientation.z = np.sin(0.5 * yaw[i])
+        msg.pose.pose.orientation.w = np.cos(0.5 * yaw[i])
+        msg.twist.twist.linear.x, msg.twist.twist.angular.z = v[i], w[i]
+        assert batch.frame(data, i) == _framed(msg)
+        assert abs(msg.pose.pose.orientation.z - math.sin(0.5 * yaw[i])) < 1e-15
 
 
 def test_transform_batch_matches_genpy():
@@ -82,6 +92,6 @@ def test_transform_batch_matches_genpy():
         (ts.transform.rotation.x, ts.transform.rotation.y, ts.transform.rotation.z,
          ts.transform.rotation.w) = qi
         msg.transforms.append(ts)
-    packed = TransformBatchWire(frames).pack(42, 50000000, t, q)
+    packed = wire.TransformBatchWire(frames).pack(42, 50000000, t, q)
     assert packed._md5sum == TFMessage._md5sum
-    assert _wire_bytes(packed) == _genpy_bytes(msg)
+    assert _framed(packed)[4:] == _framed(msg)[4:]

@@ -4,70 +4,67 @@ Publishing happens once per step from the simulation thread, only for publishers
 subscriber (tracked by a subscribe listener, so idle robots cost nothing). Per-step messages go
 out synchronously (see ``publishing.py``). Callbacks only validate and store commands.
 """
-import math
-
 import numpy as np
 import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, Range
 
-from epuck_vrep_compat.ros import commands, driver_scan, names
+from epuck_vrep_compat.ros import commands, driver_scan, names, wire
 from epuck_vrep_compat.ros.publishing import synchronous_publisher
-from epuck_vrep_compat.ros.wire import ImuWire, OdometryWire, RangeWire
 
 GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
 
 
 class _ConnectionCounter(rospy.SubscribeListener):
-    """Counts subscriber connections of one robot's publishers."""
+    """Keeps ``counts[index]`` = subscriber connections of one robot's publishers.
+
+    Recounted from the publishers on every event: rospy may report one disconnection twice
+    (a failed write and the transport's cleanup), so counting events would drift.
+    """
 
     def __init__(self, counts, index):
         super().__init__()
         self._counts = counts
         self._index = index
+        self.publishers = []
+
+    def _recount(self):
+        self._counts[self._index] = sum(len(p.impl.connections) for p in self.publishers
+                                        if p.impl is not None and p.impl.connections)
 
     def peer_subscribe(self, topic_name, topic_publish, peer_publish):
-        self._counts[self._index] += 1
+        self._recount()
 
     def peer_unsubscribe(self, topic_name, num_peers):
-        self._counts[self._index] = max(0, self._counts[self._index] - 1)
+        self._recount()
 
 
 class _Robot:
+    """One robot's publishers and subscribers."""
+
     def __init__(self, face, index, name):
         profile = face.profile
         listener = _ConnectionCounter(face.connections, index)
 
         def publisher(role, msg_class):
-            return synchronous_publisher(profile.topic(name, role), msg_class,
-                                         subscriber_listener=listener)
-        topic = lambda role: profile.topic(name, role)  # noqa: E731
-        frame = lambda f: profile.frame(name, f)  # noqa: E731
-        rng = profile.range
+            pub = synchronous_publisher(profile.topic(name, role), msg_class,
+                                        subscriber_listener=listener)
+            listener.publishers.append(pub)      # before any subscriber can count on it
+            return pub
         self.ranges = [publisher(f"proximity{k}", Range) for k in range(names.PROXIMITY_COUNT)]
-        self.range_wires = [RangeWire(frame(names.PROX_FRAME_FORMAT.format(i=k)),
-                                      Range.INFRARED, rng.field_of_view_rad, rng.min_range_m,
-                                      rng.max_range_m) for k in range(names.PROXIMITY_COUNT)]
         self.imu = publisher(profile.imu_role, Imu)
-        self.imu_wire = ImuWire(frame(names.BASE_FRAME),
-                                orientation_known=profile.name == "epuck_driver")
-        self.ground_truth = None
-        if face.publish_ground_truth:
-            self.ground_truth = publisher("ground_truth", Odometry)
-        self.ground_truth_wire = OdometryWire(names.ODOM_FRAME, frame(names.BASE_FRAME))
-        self.odom = self.scan = None
-        if profile.publishes_odometry:
-            self.odom = publisher("odom", Odometry)
-        if profile.publishes_scan:
-            self.scan = publisher("scan", LaserScan)
-            self.scan_frame = frame(names.LASER_FRAME)
-        self.cmd_vel = rospy.Subscriber(topic("cmd_vel"), Twist, face.on_cmd_vel, index,
-                                        queue_size=10)
+        self.ground_truth = (publisher("ground_truth", Odometry) if face.publish_ground_truth
+                             else None)
+        self.odom = publisher("odom", Odometry) if profile.publishes_odometry else None
+        self.scan = publisher("scan", LaserScan) if profile.publishes_scan else None
+        self.scan_frame = profile.frame(name, names.LASER_FRAME)
+        self.cmd_vel = rospy.Subscriber(profile.topic(name, "cmd_vel"), Twist, face.on_cmd_vel,
+                                        index, queue_size=10)
 
 
 class EpuckFace:
-    def __init__(self, profile, sim, cmd_vel_scaling, accel_sign, publish_ground_truth, leds):
+    def __init__(self, profile, sim, cmd_vel_scaling, accel_sign, publish_ground_truth):
         self.profile = profile
         self.sim = sim
         self.scaling = cmd_vel_scaling
@@ -75,10 +72,20 @@ class EpuckFace:
         self.gravity_sign = GRAVITY_SIGN[accel_sign]
         self.connections = np.zeros(sim.size, dtype=np.int64)
         self.robots = [_Robot(self, i, name) for i, name in enumerate(sim.robot_names)]
-        self.leds = leds
         self._sensor_yaws = [s.yaw_rad for s in sim.model.sensors]
         self._max_range = profile.range.max_range_m
         self._min_range = profile.range.min_range_m
+        frame = profile.frame
+        rng = profile.range
+        robots = sim.robot_names
+        self._range_batch = wire.range_batch(
+            [frame(r, names.PROX_FRAME_FORMAT.format(i=k))
+             for r in robots for k in range(names.PROXIMITY_COUNT)],
+            Range.INFRARED, rng.field_of_view_rad, rng.min_range_m, rng.max_range_m)
+        self._imu_batch = wire.imu_batch([frame(r, names.BASE_FRAME) for r in robots],
+                                         orientation_known=profile.name == "epuck_driver")
+        self._odom_batch = wire.odometry_batch(names.ODOM_FRAME,
+                                               [frame(r, names.BASE_FRAME) for r in robots])
 
     # --- commands ------------------------------------------------------------------------
     def on_cmd_vel(self, msg, index):
@@ -91,35 +98,54 @@ class EpuckFace:
                      f"(linear.x={msg.linear.x}, angular.z={msg.angular.z}); wheels unchanged")
 
     # --- per step ------------------------------------------------------------------------
-    def publish(self, secs: int, nsecs: int):
+    def publish(self, batch, secs: int, nsecs: int):
+        """Queue this step's sensor messages of every robot someone listens to."""
         active = np.flatnonzero(self.connections)
         if active.size == 0:
             return
         swarm = self.sim.swarm
-        ranges = np.clip(swarm.ranges, self._min_range, self._max_range)
-        accel = swarm.accel * self.gravity_sign
-        gyro = swarm.gyro if self.profile.name != "epuck_driver" else np.zeros_like(swarm.gyro)
-        poses = swarm.poses
-        velocities = swarm.velocities
-        odometry = swarm.odometry if self.profile.publishes_odometry else None
-        for i in active:
+        wanted = batch.wanted
+        packed = {}
+
+        def frames(kind):
+            if kind not in packed:
+                packed[kind] = self._pack(kind, secs, nsecs)
+            return packed[kind]
+        per_robot = names.PROXIMITY_COUNT
+        for i in active.tolist():
             robot = self.robots[i]
-            row = ranges[i]
             for k, pub in enumerate(robot.ranges):
-                if pub.impl.has_connections():
-                    pub.publish(robot.range_wires[k].pack(secs, nsecs, float(row[k])))
-            if robot.imu.impl.has_connections():
-                robot.imu.publish(robot.imu_wire.pack(secs, nsecs, accel[i], gyro[i]))
-            if robot.ground_truth is not None and robot.ground_truth.impl.has_connections():
-                x, y, yaw = poses[i]
-                vx, vy, wz = velocities[i]
-                v = vx * math.cos(yaw) + vy * math.sin(yaw)
-                robot.ground_truth.publish(
-                    robot.ground_truth_wire.pack(secs, nsecs, x, y, yaw, v, wz))
-            if robot.odom is not None and robot.odom.impl.has_connections():
-                robot.odom.publish(robot.ground_truth_wire.pack(secs, nsecs, *odometry[i]))
-            if robot.scan is not None and robot.scan.impl.has_connections():
-                robot.scan.publish(self._scan(robot, secs, nsecs, swarm.ranges_clean[i]))
+                if wanted(pub):
+                    batch.add_frame(pub, self._range_batch.frame(frames("range"),
+                                                                 i * per_robot + k))
+            if wanted(robot.imu):
+                batch.add_frame(robot.imu, self._imu_batch.frame(frames("imu"), i))
+            if robot.ground_truth is not None and wanted(robot.ground_truth):
+                batch.add_frame(robot.ground_truth,
+                                self._odom_batch.frame(frames("ground_truth"), i))
+            if robot.odom is not None and wanted(robot.odom):
+                batch.add_frame(robot.odom, self._odom_batch.frame(frames("odom"), i))
+            if robot.scan is not None and wanted(robot.scan):
+                batch.add(robot.scan, self._scan(robot, secs, nsecs, swarm.ranges_clean[i]))
+
+    def _pack(self, kind, secs, nsecs) -> bytes:
+        swarm = self.sim.swarm
+        if kind == "range":
+            ranges = np.clip(swarm.ranges, self._min_range, self._max_range)
+            return self._range_batch.pack(secs, nsecs, range=ranges)
+        if kind == "imu":
+            gyro = swarm.gyro if self.profile.name != "epuck_driver" else np.zeros((swarm.size, 3))
+            return self._imu_batch.pack(secs, nsecs, accel=swarm.accel * self.gravity_sign,
+                                        gyro=gyro)
+        if kind == "ground_truth":
+            poses, velocities = swarm.poses, swarm.velocities
+            yaw = poses[:, 2]
+            forward = velocities[:, 0] * np.cos(yaw) + velocities[:, 1] * np.sin(yaw)
+            return self._odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
+                poses[:, 0], poses[:, 1], yaw, forward, velocities[:, 2]))
+        odometry = swarm.odometry
+        return self._odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
+            *(odometry[:, k] for k in range(5))))
 
     def _scan(self, robot, secs, nsecs, ranges):
         values, intensities = driver_scan.scan_from_ranges(ranges, self._max_range,

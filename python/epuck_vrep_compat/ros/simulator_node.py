@@ -18,7 +18,7 @@ from epuck_vrep_compat.ros.camera_face import CameraFace
 from epuck_vrep_compat.ros.epuck_face import EpuckFace
 from epuck_vrep_compat.ros.led_face import LedFace
 from epuck_vrep_compat.ros.names import PROFILES
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
+from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
 from epuck_vrep_compat.ros.tf_face import TfFace
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
@@ -43,11 +43,12 @@ class SimulatorNode:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
         self.paused = params.paused
         self._lock = threading.Lock()
+        self._batch = StepBatch()
         self._clock = synchronous_publisher("/clock", Clock)
         self._tf_pub = synchronous_publisher("/tf", TFMessage)
         self.leds = LedFace(profile, self.sim)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
-                                params.publish_ground_truth, self.leds)
+                                params.publish_ground_truth)
         self.tf = TfFace(profile, self.sim)
         self.cameras = CameraFace(profile, self.sim, params.camera)
         rospy.Service("~step", StepSimulation, self._on_step)
@@ -67,6 +68,9 @@ class SimulatorNode:
         with self._lock:
             for _ in range(req.steps):
                 self._step_and_publish()
+                if self._batch.due():
+                    self._batch.flush()
+            self._batch.flush()
         return StepSimulationResponse(True, "", self.sim.frame, self.sim.time_s)
 
     def _on_pause(self, _req):
@@ -90,30 +94,42 @@ class SimulatorNode:
         self.sim.step()
         stamp = rospy.Time.from_sec(self.sim.time_s)
         secs, nsecs = stamp.secs, stamp.nsecs
-        self._clock.publish(Clock(clock=stamp))
-        if self._tf_pub.impl.has_connections():
-            self._tf_pub.publish(self.tf.message(secs, nsecs))
-        self.epucks.publish(secs, nsecs)
+        batch = self._batch
+        batch.add(self._clock, Clock(clock=stamp))
+        if batch.wanted(self._tf_pub):
+            batch.add(self._tf_pub, self.tf.message(secs, nsecs))
+        self.epucks.publish(batch, secs, nsecs)
         self.cameras.publish(secs, nsecs)
         self.leds.publish()
 
     def spin(self):
+        """Step at ``rtf`` times real time (or as fast as possible at 0).
+
+        Messages are flushed before every sleep, so a simulation that keeps its schedule
+        delivers every step at once; one that runs flat out flushes every ``max_delay_s``.
+        """
         period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
         deadline = time.monotonic()
+        batch = self._batch
         while not rospy.is_shutdown():
             if self.paused:
+                with self._lock:
+                    batch.flush()
                 time.sleep(0.01)
                 deadline = time.monotonic()
                 continue
             with self._lock:
                 self._step_and_publish()
-            if period_s > 0.0:
-                deadline += period_s
-                delay = deadline - time.monotonic()
-                if delay > 0.0:
-                    time.sleep(delay)
-                elif delay < -_LAG_RESET_S:
-                    deadline = time.monotonic()
+                delay = 0.0
+                if period_s > 0.0:
+                    deadline += period_s
+                    delay = deadline - time.monotonic()
+                if delay > 0.0 or batch.due():
+                    batch.flush()
+            if delay > 0.0:
+                time.sleep(max(0.0, deadline - time.monotonic()))
+            elif delay < -_LAG_RESET_S:
+                deadline = time.monotonic()
 
 
 def main():

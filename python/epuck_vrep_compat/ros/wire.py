@@ -2,16 +2,18 @@
 
 A step of a many-robot simulation publishes thousands of small messages; building genpy objects
 and serialising them field by field costs more than the physics. The messages published every
-step have a fixed layout, so their wire bytes are packed here directly, with the strings encoded
-once. ``test/unit/test_wire.py`` checks every encoder byte for byte against genpy.
+step have fixed strings (frame ids), so a :class:`MessageBatch` lays out all M messages of one
+kind once, as TCPROS frames, and each step only writes the numeric fields into their byte
+offsets with numpy. ``test/unit/test_wire.py`` checks every layout byte for byte against genpy.
 """
-import math
 import struct
 
 import numpy as np
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, Range
 from tf2_msgs.msg import TFMessage
+
+_U32 = struct.Struct("<I")
 
 
 class WireMessage:
@@ -35,72 +37,101 @@ class WireMessage:
 
 def _string(s: str) -> bytes:
     b = s.encode("utf-8")
-    return struct.pack("<I", len(b)) + b
+    return _U32.pack(len(b)) + b
 
 
-def header_bytes(frame_id: str, secs: int, nsecs: int, seq: int = 0) -> bytes:
-    return struct.pack("<3I", seq, secs, nsecs) + _string(frame_id)
+def _header(frame_id: str) -> bytes:
+    return struct.pack("<3I", 0, 0, 0) + _string(frame_id)
 
 
-class RangeWire:
-    """``sensor_msgs/Range`` with fixed frame, radiation type and limits."""
+class MessageBatch:
+    """M messages of one type, each a TCPROS frame (4-byte length, then the body).
 
-    def __init__(self, frame_id, radiation_type, field_of_view, min_range, max_range):
-        self._frame = _string(frame_id)
-        self._tail = struct.Struct("<B4f")
-        self._fixed = (radiation_type, field_of_view, min_range, max_range)
+    ``fields`` maps a name to (offset of the field in each body, numpy dtype, count); ``pack``
+    writes this step's values, shape (M, count), and returns the bytes of all M frames, whose
+    frame i is ``data[starts[i]:ends[i]]``.
+    """
 
-    def pack(self, secs: int, nsecs: int, range_m: float) -> WireMessage:
-        data = (struct.pack("<3I", 0, secs, nsecs) + self._frame
-                + self._tail.pack(*self._fixed, range_m))
-        return WireMessage(Range, data)
+    def __init__(self, msg_class, bodies, fields):
+        self.msg_class = msg_class
+        frames = [_U32.pack(len(b)) + b for b in bodies]
+        lengths = np.array([len(f) for f in frames])
+        self.ends = np.cumsum(lengths)
+        self.starts = self.ends - lengths
+        self._bounds = list(zip(self.starts.tolist(), self.ends.tolist()))
+        self._template = np.frombuffer(b"".join(frames), dtype=np.uint8).copy()
+        body_starts = self.starts + 4
+        self._stamp_index = (body_starts + 4)[:, None] + np.arange(8)
+        self._fields = {}
+        for name, (offsets, dtype, count) in fields.items():
+            width = np.dtype(dtype).itemsize * count
+            index = (body_starts + np.asarray(offsets))[:, None] + np.arange(width)
+            self._fields[name] = (index, np.dtype(dtype), count)
+        self.size = len(bodies)
+
+    def pack(self, secs: int, nsecs: int, **values) -> bytes:
+        buf = self._template.copy()
+        buf[self._stamp_index] = np.frombuffer(struct.pack("<2I", secs, nsecs), dtype=np.uint8)
+        for name, array in values.items():
+            index, dtype, count = self._fields[name]
+            data = np.ascontiguousarray(np.asarray(array).reshape(self.size, count), dtype=dtype)
+            buf[index] = data.view(np.uint8).reshape(self.size, -1)
+        return buf.tobytes()
+
+    def frame(self, data: bytes, i: int) -> bytes:
+        start, end = self._bounds[i]
+        return data[start:end]
+
+
+def range_batch(frame_ids, radiation_type, field_of_view, min_range, max_range):
+    """``sensor_msgs/Range`` with fixed frame, radiation type and limits; field ``range``."""
+    tail = struct.pack("<B4f", radiation_type, field_of_view, min_range, max_range, 0.0)
+    bodies = [_header(f) + tail for f in frame_ids]
+    return MessageBatch(Range, bodies, {"range": ([len(b) - 4 for b in bodies], "<f4", 1)})
 
 
 _COV_0_01 = struct.pack("<9d", 0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01)
-_COV_ZERO = struct.pack("<9d", *([0.0] * 9))
-_VEC3 = struct.Struct("<3d")
-_QUAT = struct.Struct("<4d")
+_COV9_ZERO = bytes(72)
 
 
-class ImuWire:
-    """``sensor_msgs/Imu`` as the V-REP model or the driver fills it.
-
-    ``orientation_known`` False leaves orientation and its covariance zero (V-REP never sets
-    them); True writes the given quaternion with covariance diag(0.01) (the driver writes yaw 0).
-    """
-
-    def __init__(self, frame_id: str, orientation_known: bool):
-        self._frame = _string(frame_id)
-        self._orientation_known = orientation_known
-
-    def pack(self, secs, nsecs, accel, gyro, orientation_xyzw=(0.0, 0.0, 0.0, 1.0)):
-        if self._orientation_known:
-            orientation = _QUAT.pack(*orientation_xyzw) + _COV_0_01
-        else:
-            orientation = _QUAT.pack(0.0, 0.0, 0.0, 0.0) + _COV_ZERO
-        data = b"".join((
-            struct.pack("<3I", 0, secs, nsecs), self._frame, orientation,
-            _VEC3.pack(*gyro), _COV_0_01, _VEC3.pack(*accel), _COV_0_01))
-        return WireMessage(Imu, data)
+def imu_batch(frame_ids, orientation_known: bool):
+    """``sensor_msgs/Imu`` as the V-REP model (orientation and its covariance zero: never set)
+    or the driver (identity orientation, covariance diag(0.01)) fills it; fields ``gyro`` and
+    ``accel`` (3 each), covariances diag(0.01)."""
+    if orientation_known:
+        orientation = struct.pack("<4d", 0.0, 0.0, 0.0, 1.0) + _COV_0_01
+    else:
+        orientation = bytes(32) + _COV9_ZERO
+    bodies = [_header(f) + orientation + bytes(24) + _COV_0_01 + bytes(24) + _COV_0_01
+              for f in frame_ids]
+    head = [len(_header(f)) for f in frame_ids]
+    return MessageBatch(Imu, bodies, {
+        "gyro": ([h + 104 for h in head], "<f8", 3),
+        "accel": ([h + 200 for h in head], "<f8", 3)})
 
 
-_COV36_ZERO = struct.pack("<36d", *([0.0] * 36))
+def odometry_batch(frame_id, child_frame_ids):
+    """``nav_msgs/Odometry`` of planar robots, no covariance; fields ``xy`` (2), ``qzw`` (2,
+    the yaw quaternion's z and w), ``v`` and ``w`` (1 each)."""
+    bodies, positions = [], []
+    for child in child_frame_ids:
+        head = _header(frame_id) + _string(child)
+        positions.append(len(head))
+        bodies.append(head + struct.pack("<7d", 0, 0, 0, 0, 0, 0, 1.0) + bytes(288)
+                      + bytes(48) + bytes(288))
+    twist = [p + 56 + 288 for p in positions]
+    return MessageBatch(Odometry, bodies, {
+        "xy": (positions, "<f8", 2),
+        "qzw": ([p + 40 for p in positions], "<f8", 2),
+        "v": (twist, "<f8", 1),
+        "w": ([t + 40 for t in twist], "<f8", 1)})
 
 
-class OdometryWire:
-    """``nav_msgs/Odometry`` of a planar robot (pose x, y, yaw; twist v, w); no covariance."""
-
-    def __init__(self, frame_id: str, child_frame_id: str):
-        self._frame = _string(frame_id)
-        self._child = _string(child_frame_id)
-
-    def pack(self, secs, nsecs, x, y, yaw, v, w) -> WireMessage:
-        half = 0.5 * yaw
-        data = b"".join((
-            struct.pack("<3I", 0, secs, nsecs), self._frame, self._child,
-            struct.pack("<7d", x, y, 0.0, 0.0, 0.0, math.sin(half), math.cos(half)), _COV36_ZERO,
-            struct.pack("<6d", v, 0.0, 0.0, 0.0, 0.0, w), _COV36_ZERO))
-        return WireMessage(Odometry, data)
+def planar_odometry_values(x, y, yaw, v, w):
+    """Field values of :func:`odometry_batch` from arrays of planar poses and speeds."""
+    half = 0.5 * np.asarray(yaw, dtype=float)
+    return dict(xy=np.stack((x, y), axis=-1), qzw=np.stack((np.sin(half), np.cos(half)), -1),
+                v=np.asarray(v, dtype=float), w=np.asarray(w, dtype=float))
 
 
 class TransformBatchWire:
@@ -111,7 +142,7 @@ class TransformBatchWire:
     """
 
     def __init__(self, frames):
-        parts, stamp_offsets, pose_offsets = [struct.pack("<I", len(frames))], [], []
+        parts, stamp_offsets, pose_offsets = [_U32.pack(len(frames))], [], []
         offset = 4
         for parent, child in frames:
             stamp_offsets.append(offset + 4)
@@ -136,3 +167,7 @@ class TransformBatchWire:
         poses[:, 3:] = rotations_xyzw
         buf[self._pose_index] = poses.view(np.uint8).reshape(self.size, 56)
         return WireMessage(TFMessage, buf.tobytes())
+
+
+__all__ = ["MessageBatch", "TransformBatchWire", "WireMessage", "imu_batch",
+           "odometry_batch", "planar_odometry_values", "range_batch"]

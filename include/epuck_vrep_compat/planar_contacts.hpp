@@ -1,0 +1,61 @@
+/// @file
+/// Exact penetration of an upright cylinder into an upright cylinder or an upright box: the
+/// analytic narrowphase of contact resolution (body_contacts.hpp) for the shapes an e-puck
+/// world is built of.
+///
+/// Both shapes are vertical prisms: a convex figure in the ground plane (a circle, a rectangle
+/// of any yaw) swept over a height interval [z_min, z_max]. The Minkowski difference of two
+/// such prisms is again one, so the shortest translation that separates them is the shorter
+/// of the figures' separation in the plane and the overlap of the intervals:
+///
+///     depth = min(d_plane, d_z),   d_z = min(z_max - z_min', z_max' - z_min)
+///
+/// along the planar normal when d_plane <= d_z, else along ±z (a contact no planar move can
+/// resolve, reported so its depth still counts). For the circle (c, r) against
+///  - a circle (c', r'):  d_plane = r + r' - |c - c'|, normal (c - c') / |c - c'|, or +x when
+///    the centres coincide;
+///  - a rectangle: with p the circle's centre in the rectangle's frame and q the point of the
+///    rectangle closest to p, outside (p != q) d_plane = r - |p - q|, normal (p - q) / |p - q|;
+///    inside, d_plane = r + the distance to the nearest side, normal that side's outward
+///    normal (the x sides on a tie), so the circle leaves through the nearest face.
+///
+/// Depths are metres; normals are unit, world frame, pointing from the other shape towards
+/// the circle. Touching (depth 0) is not a contact.
+#pragma once
+
+#include <optional>
+
+#include "epuck_vrep_compat/types.hpp"
+
+namespace evc {
+
+/// An upright cylinder: a disc in the ground plane swept over [z_min_m, z_max_m].
+struct UprightCircle {
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
+  double radius_m = 0.0;
+  double z_min_m = 0.0;
+  double z_max_m = 0.0;
+};
+
+/// An upright box: a rectangle in the ground plane swept over [z_min_m, z_max_m].
+struct UprightRectangle {
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d axis_x = Eigen::Vector2d::UnitX();  ///< unit, the box's local x in the plane
+  Eigen::Vector2d axis_y = Eigen::Vector2d::UnitY();  ///< unit, the box's local y in the plane
+  Eigen::Vector2d half_extents_m = Eigen::Vector2d::Zero();  ///< along axis_x, axis_y
+  double z_min_m = 0.0;
+  double z_max_m = 0.0;
+};
+
+/// How deep a circle sinks into another shape, and which way it leaves.
+struct Penetration {
+  Vec3 normal;     ///< unit, world frame, from the other shape towards the circle
+  double depth_m;  ///< > 0
+};
+
+/// Penetration of @p self into @p other, or nothing when they do not overlap.
+std::optional<Penetration> penetration(const UprightCircle& self, const UprightCircle& other);
+/// Penetration of @p self into @p other, or nothing when they do not overlap.
+std::optional<Penetration> penetration(const UprightCircle& self, const UprightRectangle& other);
+
+}  // namespace evc
