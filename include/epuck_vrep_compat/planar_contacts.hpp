@@ -47,6 +47,17 @@ struct UprightRectangle {
   double z_max_m = 0.0;
 };
 
+/// Where a circle stands in the plane relative to another figure.
+struct PlanarSeparation {
+  Eigen::Vector2d normal;  ///< unit, from the other figure towards the circle
+  double distance_m;       ///< gap between the figures; negative: -d_plane, they overlap
+};
+
+/// Signed planar distance from the circle @p self to the circle @p other (heights ignored).
+PlanarSeparation planar_separation(const UprightCircle& self, const UprightCircle& other);
+/// Signed planar distance from the circle @p self to the rectangle @p other (heights ignored).
+PlanarSeparation planar_separation(const UprightCircle& self, const UprightRectangle& other);
+
 /// How deep a circle sinks into another shape, and which way it leaves.
 struct Penetration {
   Vec3 normal;     ///< unit, world frame, from the other shape towards the circle

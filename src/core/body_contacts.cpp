@@ -7,17 +7,15 @@
 #include "body.hpp"
 #include "epuck_vrep_compat/planar_contacts.hpp"
 
-#include <cstdio>
 namespace evc {
 namespace {
-long g_rebuilds = 0, g_calls = 0, g_passes = 0, g_visits = 0, g_neigh = 0, g_steps = 0;
 
 // A shape counts as upright when its local z axis leans less than this (radians) off world z:
 // the tilt moves a 5 cm tall wall's faces by 50 pm at most.
 constexpr double kUprightTolerance = 1e-9;
 // Neighbour lists reach this far beyond a body, so they stay valid until some body has moved
 // half of it; larger means fewer rebuilds and more candidates per test.
-constexpr double kNeighbourMargin_m = 0.02;
+constexpr double kNeighbourMargin_m = 0.01;
 
 // The prism a body is in the ground plane, when it is one: an upright cylinder or box.
 struct PlanarShape {
@@ -143,7 +141,6 @@ class ContactFinder {
   // A neighbour list holds whatever the broadphase finds within the margin of a body's box;
   // until a body drifts half the margin, no pair can come into contact without being listed.
   void rebuild_neighbours() {
-    ++g_rebuilds;
     neighbours_.clear();
     first_.assign(1, 0);
     for (std::size_t i = 0; i < self_.size(); ++i) {
@@ -208,7 +205,7 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
     for (size_t i = 0; i < bodies.size(); ++i) {
       if (!active[i]) continue;
       Eigen::Vector2d move = Eigen::Vector2d::Zero();
-      finder.contacts(i, contacts); ++g_visits;
+      finder.contacts(i, contacts);
       for (const Contact& contact : contacts) {
         deepest = std::max(deepest, contact.depth_m);
         const auto other = index_of.find(contact.other_handle);
@@ -229,11 +226,9 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
         next_active[i] = 1;
       }
     }
-    ++g_passes;
     if (deepest <= settings.tolerance_m) break;
     active.swap(next_active);
   }
-  if (++g_steps % 50 == 0) fprintf(stderr, "steps %ld rebuilds/step %.2f passes %.2f visits %.1f deepest %g\n", g_steps, double(g_rebuilds)/g_steps, double(g_passes)/g_steps, double(g_visits)/g_steps, deepest);
   return deepest;
 }
 

@@ -6,33 +6,33 @@
 namespace evc {
 namespace {
 
-// Combines the planar depth with the vertical overlap: the shorter way out wins.
-std::optional<Penetration> prism_penetration(const UprightCircle& self, double other_z_min_m,
-                                             double other_z_max_m, double planar_depth_m,
-                                             const Eigen::Vector2d& planar_normal) {
+// Combines the planar overlap with the vertical one: the shorter way out wins.
+template <typename Other>
+std::optional<Penetration> prism_penetration(const UprightCircle& self, const Other& other) {
+  const PlanarSeparation planar = planar_separation(self, other);
+  const double planar_depth_m = -planar.distance_m;
   if (!(planar_depth_m > 0.0)) return std::nullopt;
-  const double rise_m = other_z_max_m - self.z_min_m;  // lift self this much to clear
-  const double sink_m = self.z_max_m - other_z_min_m;  // or lower it this much
+  const double rise_m = other.z_max_m - self.z_min_m;  // lift self this much to clear
+  const double sink_m = self.z_max_m - other.z_min_m;  // or lower it this much
   const double vertical_depth_m = std::min(rise_m, sink_m);
   if (!(vertical_depth_m > 0.0)) return std::nullopt;
   if (planar_depth_m <= vertical_depth_m) {
-    return Penetration{Vec3(planar_normal.x(), planar_normal.y(), 0.0), planar_depth_m};
+    return Penetration{Vec3(planar.normal.x(), planar.normal.y(), 0.0), planar_depth_m};
   }
   return Penetration{Vec3(0.0, 0.0, rise_m <= sink_m ? 1.0 : -1.0), vertical_depth_m};
 }
 
 }  // namespace
 
-std::optional<Penetration> penetration(const UprightCircle& self, const UprightCircle& other) {
+PlanarSeparation planar_separation(const UprightCircle& self, const UprightCircle& other) {
   const Eigen::Vector2d offset = self.centre_m - other.centre_m;
   const double distance_m = offset.norm();
   const Eigen::Vector2d normal =
       distance_m > 0.0 ? Eigen::Vector2d(offset / distance_m) : Eigen::Vector2d::UnitX();
-  return prism_penetration(self, other.z_min_m, other.z_max_m,
-                           self.radius_m + other.radius_m - distance_m, normal);
+  return PlanarSeparation{normal, distance_m - self.radius_m - other.radius_m};
 }
 
-std::optional<Penetration> penetration(const UprightCircle& self, const UprightRectangle& other) {
+PlanarSeparation planar_separation(const UprightCircle& self, const UprightRectangle& other) {
   const Eigen::Vector2d offset = self.centre_m - other.centre_m;
   const Eigen::Vector2d p(offset.dot(other.axis_x), offset.dot(other.axis_y));
   const Eigen::Vector2d& half = other.half_extents_m;
@@ -40,22 +40,29 @@ std::optional<Penetration> penetration(const UprightCircle& self, const UprightR
                                 std::max(std::abs(p.y()) - half.y(), 0.0));
   const double sign_x = p.x() < 0.0 ? -1.0 : 1.0;
   const double sign_y = p.y() < 0.0 ? -1.0 : 1.0;
-  double planar_depth_m = 0.0;
+  double centre_distance_m = 0.0;  // of the circle's centre from the rectangle, < 0 inside
   Eigen::Vector2d local_normal;
   if (outside.x() > 0.0 || outside.y() > 0.0) {
-    const double distance_m = outside.norm();
-    planar_depth_m = self.radius_m - distance_m;
-    local_normal = Eigen::Vector2d(sign_x * outside.x(), sign_y * outside.y()) / distance_m;
+    centre_distance_m = outside.norm();
+    local_normal =
+        Eigen::Vector2d(sign_x * outside.x(), sign_y * outside.y()) / centre_distance_m;
   } else {
     const double to_x_side_m = half.x() - std::abs(p.x());
     const double to_y_side_m = half.y() - std::abs(p.y());
     const bool x_side = to_x_side_m <= to_y_side_m;
-    planar_depth_m = self.radius_m + (x_side ? to_x_side_m : to_y_side_m);
+    centre_distance_m = -(x_side ? to_x_side_m : to_y_side_m);
     local_normal = x_side ? Eigen::Vector2d(sign_x, 0.0) : Eigen::Vector2d(0.0, sign_y);
   }
-  const Eigen::Vector2d normal =
-      local_normal.x() * other.axis_x + local_normal.y() * other.axis_y;
-  return prism_penetration(self, other.z_min_m, other.z_max_m, planar_depth_m, normal);
+  return PlanarSeparation{local_normal.x() * other.axis_x + local_normal.y() * other.axis_y,
+                          centre_distance_m - self.radius_m};
+}
+
+std::optional<Penetration> penetration(const UprightCircle& self, const UprightCircle& other) {
+  return prism_penetration(self, other);
+}
+
+std::optional<Penetration> penetration(const UprightCircle& self, const UprightRectangle& other) {
+  return prism_penetration(self, other);
 }
 
 }  // namespace evc
