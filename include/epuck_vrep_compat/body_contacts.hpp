@@ -2,14 +2,30 @@
 /// Pushes robot bodies out of whatever they penetrate, in the ground plane.
 ///
 /// Robots are kinematic: nothing pushes back with forces, so contact is resolved by moving the
-/// bodies. Each pass asks Bullet's narrowphase (CollisionWorld::contacts) for the penetrating
-/// contacts of each body and moves the body along the contact normals projected on the ground
-/// plane, by the depth of each contact not already covered by the move so far (two collinear
-/// contacts, e.g. a wall built of two boxes, do not push twice; a corner pushes along both
-/// walls). Two bodies of the same list share a contact half and half, pushed apart along the
-/// line between their vertical axes (the list holds upright cylinders); everything else (walls,
-/// other robots) does not move. Passes repeat, visiting only bodies that moved or touched
-/// something, until no penetration deeper than the tolerance remains or the passes run out.
+/// bodies. Each pass visits the bodies in list order, finds each one's penetrating contacts
+/// and moves it along the contact normals projected on the ground plane, by the depth of each
+/// contact not already covered by the move so far (two collinear contacts, e.g. a wall built of
+/// two boxes, do not push twice; a corner pushes along both walls). Two bodies of the list share
+/// a contact half and half, pushed apart along the line between their vertical axes (the list
+/// holds upright cylinders); everything else (walls, other objects) does not move. Passes
+/// repeat, visiting only bodies that moved, until no penetration deeper than the tolerance
+/// remains or the passes run out. Contacts obey the collision groups (contact_mask): a robot
+/// never touches the floor.
+///
+/// Narrowphase. A listed upright cylinder (axis along world z) meets upright cylinders and
+/// upright boxes (local z along world z, any yaw) through the closed forms of
+/// planar_contacts.hpp, exact to rounding: circle against circle, or circle against rectangle,
+/// in the ground plane, whenever their heights overlap; a robot whose centre is inside a box
+/// leaves through the nearest face. Anything else (spheres, tilted shapes, a listed body that
+/// is not an upright cylinder) goes through Bullet's GJK/EPA narrowphase
+/// (CollisionWorld::contacts), whose normals may tilt out of the plane; a (nearly) vertical one
+/// counts towards the depth but moves nothing. Contacts are taken in handle order either way,
+/// so a run is reproduced bit for bit.
+///
+/// Broadphase. Each upright cylinder keeps a list of what the Bullet broadphase finds within a
+/// margin of it, built for all bodies in one batch and rebuilt only once some body has moved
+/// half the margin since (until then no unlisted pair can have closed the gap). The world
+/// learns the moved poses at each rebuild, before each Bullet query and at the end.
 #pragma once
 
 #include <vector>
@@ -31,7 +47,8 @@ struct ContactSettings {
   double slop_m = 1e-6;       ///< extra push, so a resolved contact does not reappear by rounding
 };
 
-/// Resolves penetrations of @p bodies, updating their poses here and in @p world.
+/// Resolves penetrations of @p bodies: places each at its given pose in @p world first, and
+/// leaves the resolved poses in both. Throws UnknownHandle for a body the world lacks.
 /// Returns the deepest penetration found by the last pass, metres.
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
                             const ContactSettings& settings = ContactSettings());

@@ -1,26 +1,22 @@
 /// @file
 /// Exact penetration of an upright cylinder into an upright cylinder or an upright box: the
-/// analytic narrowphase of contact resolution (body_contacts.hpp) for the shapes an e-puck
+/// closed-form narrowphase of contact resolution (body_contacts.hpp) for the shapes an e-puck
 /// world is built of.
 ///
 /// Both shapes are vertical prisms: a convex figure in the ground plane (a circle, a rectangle
-/// of any yaw) swept over a height interval [z_min, z_max]. The Minkowski difference of two
-/// such prisms is again one, so the shortest translation that separates them is the shorter
-/// of the figures' separation in the plane and the overlap of the intervals:
+/// of any yaw) swept over a height interval [z_min, z_max]. Robots move in the plane only, so
+/// two prisms whose height intervals overlap (touching is not overlapping) meet as their plane
+/// figures do, and the contact is planar:
+///  - circle (c, r) and circle (c', r'): depth r + r' - |c - c'|, normal (c - c') / |c - c'|,
+///    or +x when the centres coincide;
+///  - circle and rectangle: with p the circle's centre in the rectangle's frame and q the
+///    point of the rectangle closest to p, outside (p != q) depth r - |p - q|, normal
+///    (p - q) / |p - q|; inside, depth r + the distance to the nearest side, normal that
+///    side's outward normal (the x sides on a tie), so the circle leaves through the nearest
+///    face however deep it is.
 ///
-///     depth = min(d_plane, d_z),   d_z = min(z_max - z_min', z_max' - z_min)
-///
-/// along the planar normal when d_plane <= d_z, else along ±z (a contact no planar move can
-/// resolve, reported so its depth still counts). For the circle (c, r) against
-///  - a circle (c', r'):  d_plane = r + r' - |c - c'|, normal (c - c') / |c - c'|, or +x when
-///    the centres coincide;
-///  - a rectangle: with p the circle's centre in the rectangle's frame and q the point of the
-///    rectangle closest to p, outside (p != q) d_plane = r - |p - q|, normal (p - q) / |p - q|;
-///    inside, d_plane = r + the distance to the nearest side, normal that side's outward
-///    normal (the x sides on a tie), so the circle leaves through the nearest face.
-///
-/// Depths are metres; normals are unit, world frame, pointing from the other shape towards
-/// the circle. Touching (depth 0) is not a contact.
+/// Depths are metres, > 0 for a contact (touching is none); normals are unit, world frame, in
+/// the ground plane, pointing from the other shape towards the circle.
 #pragma once
 
 #include <optional>
@@ -50,7 +46,7 @@ struct UprightRectangle {
 /// Where a circle stands in the plane relative to another figure.
 struct PlanarSeparation {
   Eigen::Vector2d normal;  ///< unit, from the other figure towards the circle
-  double distance_m;       ///< gap between the figures; negative: -d_plane, they overlap
+  double distance_m;       ///< gap between the figures; negative: minus the depth of overlap
 };
 
 /// Signed planar distance from the circle @p self to the circle @p other (heights ignored).
@@ -60,13 +56,15 @@ PlanarSeparation planar_separation(const UprightCircle& self, const UprightRecta
 
 /// How deep a circle sinks into another shape, and which way it leaves.
 struct Penetration {
-  Vec3 normal;     ///< unit, world frame, from the other shape towards the circle
+  Vec3 normal;     ///< unit, world frame, horizontal, from the other shape towards the circle
   double depth_m;  ///< > 0
 };
 
-/// Penetration of @p self into @p other, or nothing when they do not overlap.
+/// Penetration of @p self into @p other, or nothing when their figures or heights do not
+/// overlap.
 std::optional<Penetration> penetration(const UprightCircle& self, const UprightCircle& other);
-/// Penetration of @p self into @p other, or nothing when they do not overlap.
+/// Penetration of @p self into @p other, or nothing when their figures or heights do not
+/// overlap.
 std::optional<Penetration> penetration(const UprightCircle& self, const UprightRectangle& other);
 
 }  // namespace evc

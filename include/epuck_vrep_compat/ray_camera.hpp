@@ -13,6 +13,16 @@
 /// light direction (world frame); the background colour where nothing is hit within far_m.
 /// Depth: the distance along the optical axis, t d_x / |d|, clamped to [near_m, far_m]; far_m
 /// where nothing is hit.
+///
+/// The image equals one CollisionWorld::ray_cast per pixel (test_camera_speed_equivalence.py
+/// checks it pixel for pixel) at a fraction of the cost: per image, the broadphase and bounding
+/// spheres keep the objects that can appear, each with the pixel rectangle its projection can
+/// cover and a lower bound on its depth; they are drawn nearest bound first into a depth buffer,
+/// a pixel testing its exact ray against the object only if no nearer hit covers it already.
+/// Measured here, 160 × 120 in a 100-robot arena takes ~0.25 ms (one ray_cast per pixel: ~5 ms).
+/// Exact ties between coincident surfaces go to the smaller depth bound, then the lower handle.
+/// A camera inside an object sees it at near_m everywhere; on its surface, wherever the closed
+/// form counts the touch as a hit. Safe to call from several threads on an unchanging world.
 #pragma once
 
 #include <cstdint>

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include "body.hpp"
@@ -13,9 +14,9 @@ namespace {
 // A shape counts as upright when its local z axis leans less than this (radians) off world z:
 // the tilt moves a 5 cm tall wall's faces by 50 pm at most.
 constexpr double kUprightTolerance = 1e-9;
-// Neighbour lists reach this far beyond a body, so they stay valid until some body has moved
-// half of it; larger means fewer rebuilds and more candidates per test.
-constexpr double kNeighbourMargin_m = 0.01;
+// Neighbour lists hold what lies within this gap of a body, so they stay valid until some
+// body has moved half of it; larger means fewer rebuilds and longer lists.
+constexpr double kNeighbourMargin_m = 0.06;
 
 // The prism a body is in the ground plane, when it is one: an upright cylinder or box.
 struct PlanarShape {
@@ -52,12 +53,27 @@ PlanarShape planar_shape(const Body& body) {
   return shape;
 }
 
-bool boxes_overlap(const Vec3& min_a, const Vec3& max_a, const btVector3& min_b,
-                   const btVector3& max_b) {
-  for (int axis = 0; axis < 3; ++axis) {
-    if (min_a[axis] > max_b[axis] || min_b[axis] > max_a[axis]) return false;
+// Whether a circle can come into contact with a body after planar moves of @p margin_m in
+// all: exact for prisms, through the bounding sphere for anything else.
+bool within_reach(const UprightCircle& circle, const PlanarShape& shape, const Body& body,
+                  double margin_m) {
+  switch (shape.kind) {
+    case PlanarShape::Kind::kCircle:
+      return circle.z_min_m < shape.circle.z_max_m && shape.circle.z_min_m < circle.z_max_m &&
+             planar_separation(circle, shape.circle).distance_m < margin_m;
+    case PlanarShape::Kind::kRectangle:
+      return circle.z_min_m < shape.rectangle.z_max_m &&
+             shape.rectangle.z_min_m < circle.z_max_m &&
+             planar_separation(circle, shape.rectangle).distance_m < margin_m;
+    case PlanarShape::Kind::kOther:
+      break;
   }
-  return true;
+  const BoundingSphere sphere = CollisionWorld::bounding_sphere(body);
+  const UprightCircle bound{sphere.centre_m.head<2>(), sphere.radius_m,
+                            sphere.centre_m.z() - sphere.radius_m,
+                            sphere.centre_m.z() + sphere.radius_m};
+  return circle.z_min_m <= bound.z_max_m && bound.z_min_m <= circle.z_max_m &&
+         planar_separation(circle, bound).distance_m <= margin_m;
 }
 
 // Extends the planar move so it covers `depth` along `normal`; returns false for a contact
@@ -72,163 +88,254 @@ bool cover(const Vec3& normal, double depth, Eigen::Vector2d& move) {
   return true;
 }
 
-// Between two listed bodies (upright cylinders) the exact normal is the line between their
-// axes. Bullet's EPA normal is off by ~3e-4 rad in deep contacts, enough to let two robots
-// pushing nose to nose creep sideways and slip past each other.
-Vec3 centre_line(const MovableBody& self, const MovableBody& other, const Vec3& fallback) {
-  Vec3 line = self.pose.position_m - other.pose.position_m;
-  line.z() = 0.0;
-  const double length = line.norm();
-  return length > 1e-9 ? Vec3(line / length) : fallback;
-}
+// A contact of a listed body, and the index of the other body if it is listed too (else -1).
+struct Touch {
+  Contact contact;
+  long other;
+};
 
-// The contacts of the listed bodies, analytic where both shapes are upright prisms.
+// Finds the contacts of the listed bodies and moves them. Poses live in the MovableBody list
+// while passes run; the world learns them before anything reads it (a rebuild of the
+// neighbour lists, a Bullet query) and at the end.
 class ContactFinder {
  public:
-  ContactFinder(CollisionWorld& world, const std::vector<MovableBody>& bodies)
-      : world_(world), self_(bodies.size(), nullptr), drift_m_(bodies.size(), Eigen::Vector2d::Zero()) {
-    std::vector<const Body*> found;
+  ContactFinder(CollisionWorld& world, std::vector<MovableBody>& bodies)
+      : world_(world), bodies_(bodies), self_(bodies.size(), nullptr), shape_(bodies.size()),
+        drift_m_(bodies.size(), Eigen::Vector2d::Zero()), dirty_(bodies.size(), 0) {
+    if (bodies.empty()) return;
+    Vec3 lowest = bodies.front().pose.position_m, highest = lowest;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
-      handles_.push_back(bodies[i].handle);
-      const Vec3 centre = world.get_pose(bodies[i].handle).position_m;  // UnknownHandle
-      found.clear();
-      world.overlap_query(centre, centre, kGroupAll, -1, found);
-      for (const Body* body : found) {
-        if (body->handle == bodies[i].handle) self_[i] = body;
-      }
+      const MovableBody& body = bodies[i];
+      index_of_.emplace(body.handle, i);
+      world.set_pose(body.handle, body.pose);  // UnknownHandle for a body the world lacks
+      lowest = lowest.cwiseMin(body.pose.position_m);
+      highest = highest.cwiseMax(body.pose.position_m);
+    }
+    // The bodies' boxes hold their centres: one query finds them all.
+    found_.clear();
+    world.overlap_query(lowest, highest, kGroupAll, -1, found_);
+    for (const Body* candidate : found_) {
+      const long i = listed_index(candidate->handle);
+      if (i >= 0) self_[i] = candidate;
+    }
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      if (self_[i] != nullptr) shape_[i] = planar_shape(*self_[i]);
     }
     rebuild_neighbours();
   }
 
   // Penetrating contacts of body i, in handle order (as CollisionWorld::contacts gives them).
-  void contacts(std::size_t i, std::vector<Contact>& out) {
+  void contacts(std::size_t i, std::vector<Touch>& out) {
     out.clear();
-    const PlanarShape self = self_[i] ? planar_shape(*self_[i]) : PlanarShape();
-    if (self.kind != PlanarShape::Kind::kCircle) {
-      out = world_.contacts(handles_[i]);
+    if (shape_[i].kind != PlanarShape::Kind::kCircle) {
+      add_bullet_contacts(i, false, out);
       return;
     }
-    if (max_drift_m_ > 0.5 * kNeighbourMargin_m) rebuild_neighbours();
-    const Vec3 self_min(self.circle.centre_m.x() - self.circle.radius_m,
-                        self.circle.centre_m.y() - self.circle.radius_m, self.circle.z_min_m);
-    const Vec3 self_max(self.circle.centre_m.x() + self.circle.radius_m,
-                        self.circle.centre_m.y() + self.circle.radius_m, self.circle.z_max_m);
-    fallback_handles_.clear();
+    if (max_drift_squared_ > 0.25 * kNeighbourMargin_m * kNeighbourMargin_m) {
+      rebuild_neighbours();
+    }
+    const UprightCircle self = shape_now(i).circle;
+    bool needs_bullet = false;
     for (std::size_t k = first_[i]; k < first_[i + 1]; ++k) {
-      const Body& other = *neighbours_[k];
-      const PlanarShape shape = planar_shape(other);
+      const Neighbour& neighbour = neighbours_[k];
+      const bool listed = neighbour.listed >= 0;
+      PlanarShape fixed;  // a body that stays put: where it is
+      if (!listed) fixed = planar_shape(*neighbour.body);
+      const PlanarShape& shape = listed ? shape_[neighbour.listed] : fixed;
       std::optional<Penetration> found;
       if (shape.kind == PlanarShape::Kind::kCircle) {
-        found = penetration(self.circle, shape.circle);
+        UprightCircle other = shape.circle;
+        if (listed) other.centre_m = position(neighbour.listed);
+        found = penetration(self, other);
       } else if (shape.kind == PlanarShape::Kind::kRectangle) {
-        found = penetration(self.circle, shape.rectangle);
-      } else if (const btBroadphaseProxy* proxy = other.object->getBroadphaseHandle();
-                 boxes_overlap(self_min, self_max, proxy->m_aabbMin, proxy->m_aabbMax)) {
-        fallback_handles_.push_back(other.handle);
+        UprightRectangle other = shape.rectangle;
+        if (listed) other.centre_m = position(neighbour.listed);
+        found = penetration(self, other);
+      } else {
+        needs_bullet = true;
       }
-      if (found) out.push_back(Contact{other.handle, found->normal, found->depth_m});
+      if (!found) continue;
+      out.push_back(Touch{Contact{neighbour.body->handle, found->normal, found->depth_m},
+                          neighbour.listed});
     }
-    if (!fallback_handles_.empty()) add_bullet_contacts(handles_[i], out);
+    if (needs_bullet) add_bullet_contacts(i, true, out);
   }
 
-  // Records that body i moved (it is the caller's job to move it in the world).
-  void moved(std::size_t i, const Eigen::Vector2d& move) {
+  // Moves body i in the plane.
+  void translate(std::size_t i, const Eigen::Vector2d& move) {
+    bodies_[i].pose.position_m.x() += move.x();
+    bodies_[i].pose.position_m.y() += move.y();
     drift_m_[i] += move;
-    max_drift_m_ = std::max(max_drift_m_, drift_m_[i].cwiseAbs().maxCoeff());
+    max_drift_squared_ = std::max(max_drift_squared_, drift_m_[i].squaredNorm());
+    if (!dirty_[i]) {
+      dirty_[i] = 1;
+      moved_.push_back(i);
+    }
+  }
+
+  // Hands the moved bodies' poses to the world.
+  void sync() {
+    for (const std::size_t i : moved_) {
+      world_.set_pose(bodies_[i].handle, bodies_[i].pose);
+      dirty_[i] = 0;
+    }
+    moved_.clear();
   }
 
  private:
-  // A neighbour list holds whatever the broadphase finds within the margin of a body's box;
-  // until a body drifts half the margin, no pair can come into contact without being listed.
-  void rebuild_neighbours() {
-    neighbours_.clear();
-    first_.assign(1, 0);
-    for (std::size_t i = 0; i < self_.size(); ++i) {
-      const PlanarShape self = self_[i] ? planar_shape(*self_[i]) : PlanarShape();
-      if (self.kind == PlanarShape::Kind::kCircle) {
-        const UprightCircle& circle = self.circle;
-        const double reach_m = circle.radius_m + kNeighbourMargin_m;
-        world_.overlap_query(
-            Vec3(circle.centre_m.x() - reach_m, circle.centre_m.y() - reach_m, circle.z_min_m),
-            Vec3(circle.centre_m.x() + reach_m, circle.centre_m.y() + reach_m, circle.z_max_m),
-            contact_mask(self_[i]->group), self_[i]->handle, neighbours_);
-      }
-      first_.push_back(neighbours_.size());
-    }
-    std::fill(drift_m_.begin(), drift_m_.end(), Eigen::Vector2d::Zero());
-    max_drift_m_ = 0.0;
+  struct Neighbour {
+    const Body* body;
+    long listed;  // index of a listed body, whose shape moves with it; -1 if it stays put
+  };
+
+  Eigen::Vector2d position(std::size_t i) const { return bodies_[i].pose.position_m.head<2>(); }
+
+  // The shape of listed body i where it is now.
+  PlanarShape shape_now(std::size_t i) const {
+    PlanarShape shape = shape_[i];
+    shape.circle.centre_m = shape.rectangle.centre_m = position(i);
+    return shape;
   }
 
-  // Bullet's contacts with the neighbours no closed form covers, merged in handle order.
-  void add_bullet_contacts(int handle, std::vector<Contact>& out) {
-    for (const Contact& contact : world_.contacts(handle)) {
-      if (std::find(fallback_handles_.begin(), fallback_handles_.end(), contact.other_handle) !=
-          fallback_handles_.end()) {
-        out.push_back(contact);
-      }
+  long listed_index(int handle) const {
+    const auto it = index_of_.find(handle);
+    return it == index_of_.end() ? -1 : static_cast<long>(it->second);
+  }
+
+  // Lists for each upright cylinder, in handle order, what could touch it before some body
+  // has drifted half the margin (two bodies then close a gap of one margin at most): the
+  // broadphase finds what lies in the margin of each cylinder's box, the exact gap decides.
+  void rebuild_neighbours() {
+    sync();
+    queries_.clear();
+    circles_.clear();
+    int mask = 0;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (shape_[i].kind != PlanarShape::Kind::kCircle) continue;
+      const UprightCircle circle = shape_now(i).circle;
+      const double reach_m = circle.radius_m + kNeighbourMargin_m;
+      queries_.push_back(BoxQuery{
+          Vec3(circle.centre_m.x() - reach_m, circle.centre_m.y() - reach_m, circle.z_min_m),
+          Vec3(circle.centre_m.x() + reach_m, circle.centre_m.y() + reach_m, circle.z_max_m),
+          self_[i]->handle});
+      circles_.push_back(i);
+      mask |= contact_mask(self_[i]->group);
     }
-    std::stable_sort(out.begin(), out.end(), [](const Contact& a, const Contact& b) {
-      return a.other_handle < b.other_handle;
+    overlap_query_batch(world_, queries_, mask, found_first_, found_);
+    neighbours_.clear();
+    first_.assign(bodies_.size() + 1, 0);
+    for (std::size_t q = 0, i = 0; i < bodies_.size(); ++i) {
+      if (q < circles_.size() && circles_[q] == i) {
+        const UprightCircle self = shape_now(i).circle;
+        for (std::size_t k = found_first_[q]; k < found_first_[q + 1]; ++k) {
+          const Body& other = *found_[k];
+          if ((other.group & contact_mask(self_[i]->group)) == 0) continue;
+          const long listed = listed_index(other.handle);
+          const PlanarShape shape = listed >= 0 ? shape_now(listed) : planar_shape(other);
+          if (within_reach(self, shape, other, kNeighbourMargin_m)) {
+            neighbours_.push_back(Neighbour{&other, listed});
+          }
+        }
+        ++q;
+      }
+      first_[i + 1] = neighbours_.size();
+    }
+    std::fill(drift_m_.begin(), drift_m_.end(), Eigen::Vector2d::Zero());
+    max_drift_squared_ = 0.0;
+  }
+
+  // Bullet's contacts of body i; with @p only_other_shapes, only those with bodies that have no
+  // closed form (the others are in @p out already), merged in handle order.
+  void add_bullet_contacts(std::size_t i, bool only_other_shapes, std::vector<Touch>& out) {
+    sync();
+    for (const Contact& contact : world_.contacts(bodies_[i].handle)) {
+      const long listed = listed_index(contact.other_handle);
+      if (only_other_shapes && has_closed_form(i, contact.other_handle)) continue;
+      Touch touch{contact, listed};
+      if (listed >= 0) touch.contact.normal = centre_line(i, listed, contact.normal);
+      out.push_back(touch);
+    }
+    std::stable_sort(out.begin(), out.end(), [](const Touch& a, const Touch& b) {
+      return a.contact.other_handle < b.contact.other_handle;
     });
   }
 
+  // Two listed bodies (upright cylinders) part along the line between their axes, as the
+  // closed form has them do. Bullet's EPA normal is off by ~3e-4 rad in deep contacts, enough
+  // to let two robots pushing nose to nose creep sideways past each other.
+  Vec3 centre_line(std::size_t i, std::size_t other, const Vec3& fallback) const {
+    const Eigen::Vector2d line = position(i) - position(other);
+    const double length = line.norm();
+    return length > 1e-9 ? Vec3(line.x() / length, line.y() / length, 0.0) : fallback;
+  }
+
+  // Whether body i's contact with @p handle came from a closed form.
+  bool has_closed_form(std::size_t i, int handle) const {
+    for (std::size_t k = first_[i]; k < first_[i + 1]; ++k) {
+      const Neighbour& neighbour = neighbours_[k];
+      if (neighbour.body->handle != handle) continue;
+      const PlanarShape::Kind kind = neighbour.listed >= 0 ? shape_[neighbour.listed].kind
+                                                           : planar_shape(*neighbour.body).kind;
+      return kind != PlanarShape::Kind::kOther;
+    }
+    return false;
+  }
+
   CollisionWorld& world_;
-  std::vector<int> handles_;             // per listed body
-  std::vector<const Body*> self_;        // per listed body, null if the world lost it
-  std::vector<const Body*> neighbours_;  // body i's are [first_[i], first_[i + 1])
+  std::vector<MovableBody>& bodies_;
+  std::unordered_map<int, std::size_t> index_of_;  // handle -> listed body (lookups only)
+  std::vector<const Body*> self_;                  // per listed body
+  std::vector<PlanarShape> shape_;                 // per listed body, centre as at the start
+  std::vector<Neighbour> neighbours_;              // body i's: [first_[i], first_[i + 1])
   std::vector<std::size_t> first_;
   std::vector<Eigen::Vector2d> drift_m_;  // each body's displacement since the rebuild
-  double max_drift_m_ = 0.0;              // the largest coordinate any of them reached
-  std::vector<int> fallback_handles_;
+  double max_drift_squared_ = 0.0;        // the longest of them so far, squared
+  std::vector<char> dirty_;               // moved since the world last learnt its pose
+  std::vector<std::size_t> moved_;        // the dirty bodies, in the order they moved
+  std::vector<const Body*> found_;        // scratch for broadphase queries
+  std::vector<std::size_t> found_first_;
+  std::vector<BoxQuery> queries_;         // scratch for the rebuild, one per cylinder
+  std::vector<std::size_t> circles_;      // the cylinders' indices, ascending
 };
 
 }  // namespace
 
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
                             const ContactSettings& settings) {
-  std::unordered_map<int, size_t> index_of;
-  for (size_t i = 0; i < bodies.size(); ++i) index_of.emplace(bodies[i].handle, i);
   ContactFinder finder(world, bodies);
-  const auto translate = [&](size_t i, const Eigen::Vector2d& move) {
-    bodies[i].pose.position_m.x() += move.x();
-    bodies[i].pose.position_m.y() += move.y();
-    world.set_pose(bodies[i].handle, bodies[i].pose);
-    finder.moved(i, move);
-  };
   std::vector<char> active(bodies.size(), 1);
   std::vector<char> next_active(bodies.size(), 0);
-  std::vector<Contact> contacts;
+  std::vector<Touch> touches;
   double deepest = 0.0;
   for (int pass = 0; pass < settings.max_passes; ++pass) {
     deepest = 0.0;
     std::fill(next_active.begin(), next_active.end(), 0);
-    for (size_t i = 0; i < bodies.size(); ++i) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
       if (!active[i]) continue;
       Eigen::Vector2d move = Eigen::Vector2d::Zero();
-      finder.contacts(i, contacts);
-      for (const Contact& contact : contacts) {
+      finder.contacts(i, touches);
+      for (const Touch& touch : touches) {
+        const Contact& contact = touch.contact;
         deepest = std::max(deepest, contact.depth_m);
-        const auto other = index_of.find(contact.other_handle);
-        const bool shared = other != index_of.end();
+        const bool shared = touch.other >= 0;
         const double share = shared ? 0.5 : 1.0;
-        const Vec3 normal =
-            shared ? centre_line(bodies[i], bodies[other->second], contact.normal) : contact.normal;
-        if (!cover(normal, share * contact.depth_m + settings.slop_m, move)) continue;
+        if (!cover(contact.normal, share * contact.depth_m + settings.slop_m, move)) continue;
         if (shared) {
           Eigen::Vector2d other_move = Eigen::Vector2d::Zero();
-          cover(-normal, share * contact.depth_m + settings.slop_m, other_move);
-          translate(other->second, other_move);
-          next_active[other->second] = 1;
+          cover(-contact.normal, share * contact.depth_m + settings.slop_m, other_move);
+          finder.translate(touch.other, other_move);
+          next_active[touch.other] = 1;
         }
       }
       if (!move.isZero()) {
-        translate(i, move);
+        finder.translate(i, move);
         next_active[i] = 1;
       }
     }
     if (deepest <= settings.tolerance_m) break;
     active.swap(next_active);
   }
+  finder.sync();
   return deepest;
 }
 

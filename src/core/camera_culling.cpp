@@ -27,7 +27,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMarginPx = 1.0;       // added around every pixel rectangle
 constexpr double kShrink = 1.0 - 1e-9;  // applied to every lower bound on a depth
 
-// A plane through the camera, in the camera frame: points with normal · p < 0 are outside.
+// The view pyramid in the camera frame: four side planes through the camera, normals pointing
+// in, and the base x = far_m.
 struct ViewPyramid {
   btVector3 sides[4];
   double far_m;
@@ -72,9 +73,12 @@ double distance_to_primitive(const Primitive& primitive, const btVector3& point)
       }
       return outside.length();
     }
-    case Primitive::Kind::kCylinder:
-      return std::hypot(std::max(std::hypot(point.x(), point.y()) - primitive.radius_m, 0.0),
-                        std::max(std::abs(point.z()) - primitive.half_height_m, 0.0));
+    case Primitive::Kind::kCylinder: {
+      const double radial = std::max(
+          std::sqrt(point.x() * point.x() + point.y() * point.y()) - primitive.radius_m, 0.0);
+      const double axial = std::max(std::abs(point.z()) - primitive.half_height_m, 0.0);
+      return std::sqrt(radial * radial + axial * axial);
+    }
     case Primitive::Kind::kSphere:
       break;
   }
@@ -180,8 +184,9 @@ bool bound_in_image(const Body& body, const CameraRays& rays, const CameraSpec& 
   const double distance_m = distance_to_primitive(body.primitive, target.origin);
   const double min_depth_m = distance_m / rays.max_ray_length * kShrink;
   if (!(min_depth_m > 0.0)) {  // the camera touches the object: any pixel may see it, at 0 m
-    target.camera = strictly_inside(body.primitive, target.origin) ? CameraTarget::Camera::kInside
-                                                                   : CameraTarget::Camera::kOnSurface;
+    target.camera = strictly_inside(body.primitive, target.origin)
+                        ? CameraTarget::Camera::kInside
+                        : CameraTarget::Camera::kOnSurface;
     target.row_end = spec.height;
     target.col_end = spec.width;
     return true;
@@ -196,7 +201,9 @@ bool bound_in_image(const Body& body, const CameraRays& rays, const CameraSpec& 
   btVector3 corners[8];
   for (int k = 0; k < 8; ++k) {
     corners[k] = centre;
-    for (int axis = 0; axis < 3; ++axis) corners[k] += ((k >> axis) & 1) ? axes[axis] : -axes[axis];
+    for (int axis = 0; axis < 3; ++axis) {
+      corners[k] += ((k >> axis) & 1) ? axes[axis] : -axes[axis];
+    }
   }
   const Extent extent = front_extent(corners, min_depth_m);
   if (extent.empty()) return false;
@@ -234,8 +241,7 @@ std::vector<CameraTarget> camera_targets(const CollisionWorld& world, const Came
                                          const CameraSpec& spec, int ignore_handle, int mask) {
   Vec3 lo, hi;
   pyramid_box(rays, spec, lo, hi);
-  thread_local std::vector<const Body*> candidates;
-  candidates.clear();
+  std::vector<const Body*> candidates;
   world.overlap_query(lo, hi, mask, ignore_handle, candidates);
 
   const ViewPyramid pyramid = view_pyramid(rays, spec);

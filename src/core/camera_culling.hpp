@@ -7,10 +7,10 @@
 // optical axis, and "within far_m" is "parameter <= far_m".
 #pragma once
 
+#include <vector>
+
 #include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
-
-#include <vector>
 
 #include "epuck_vrep_compat/collision_world.hpp"
 #include "epuck_vrep_compat/ray_camera.hpp"

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "body.hpp"
+#include "bullet_conversions.hpp"
 #include "epuck_vrep_compat/collision_world.hpp"
 
 namespace evc {
@@ -55,23 +56,102 @@ std::vector<Vec3> cone_ray_directions(const ConeSensor& sensor) {
 
 namespace {
 
+// Radius of a sphere about a body's origin that encloses it, rounded up so that the cull
+// below never drops a body that a ray can hit.
+double enclosing_radius(const Primitive& shape) {
+  double squared = shape.radius_m * shape.radius_m;
+  if (shape.kind == Primitive::Kind::kBox) squared = shape.half_extents.length2();
+  if (shape.kind == Primitive::Kind::kCylinder) {
+    squared += shape.half_height_m * shape.half_height_m;
+  }
+  return std::sqrt(squared) * (1.0 + 1e-12);
+}
+
+// What a cone reads with, kept per thread so that reading a cone allocates nothing.
+struct ConeScratch {
+  std::vector<const Body*> in_cone;
+  std::vector<RayTarget> targets;
+  std::vector<Vec3> per_metre;  // per target: toward / min_distance_m, sensor frame
+  std::vector<double> paces;    // per ray, see hit_paces
+  bool touching = false;        // some target touches the sensor
+  double half_angle_rad = -1.0;  // the angle cos_h and sin_h belong to
+  double cos_h = 0.0, sin_h = 0.0;
+};
+
+ConeScratch& cone_scratch(double half_angle_rad) {
+  thread_local ConeScratch scratch;
+  if (scratch.half_angle_rad != half_angle_rad) {
+    scratch.half_angle_rad = half_angle_rad;
+    scratch.cos_h = std::cos(half_angle_rad);
+    scratch.sin_h = std::sin(half_angle_rad);
+  }
+  return scratch;
+}
+
 // Keeps the candidates whose bounding spheres reach into the cone: most of a robot's
 // neighbours lie beside or behind a given sensor, and a ray test costs more than this check.
+// A sphere of radius R whose centre is d > R away reaches into the cone when the centre is at
+// most h + asin(R / d) off the axis; both angles lie in [0, pi), so in cosines:
+//     offset · axis + R sin h >= d cos(h + asin(R / d)) + R sin h = cos h sqrt(d^2 - R^2),
+// compared squared when the left side is positive (it is read with a little slack, so that
+// rounding keeps a body rather than drops it).
 void cull_to_cone(const std::vector<const Body*>& candidates, const Pose& sensor_pose,
-                  double half_angle_rad, double max_range_m, std::vector<const Body*>& out) {
+                  const ConeSensor& sensor, ConeScratch& scratch) {
   const Vec3 axis = sensor_pose.orientation * Vec3::UnitX();
-  out.clear();
+  scratch.in_cone.clear();
   for (const Body* body : candidates) {
-    const BoundingSphere sphere = CollisionWorld::bounding_sphere(*body);
-    const Vec3 offset = sphere.centre_m - sensor_pose.position_m;
-    const double distance = offset.norm();
-    if (distance - sphere.radius_m > max_range_m) continue;
-    if (distance > sphere.radius_m) {
-      const double angle = std::acos(std::clamp(offset.dot(axis) / distance, -1.0, 1.0));
-      if (angle > half_angle_rad + std::asin(sphere.radius_m / distance)) continue;
+    const double radius = enclosing_radius(body->primitive);
+    const Vec3 offset = to_eigen(body->object->getWorldTransform().getOrigin()) -
+                        sensor_pose.position_m;
+    const double reach = sensor.max_range_m + radius;
+    const double squared = offset.squaredNorm();
+    if (squared > reach * reach) continue;
+    const double lhs = offset.dot(axis) + scratch.sin_h * radius + 1e-12 * reach;
+    const double inside = squared - radius * radius;  // d^2 - R^2
+    if (inside > 0.0 && (lhs < 0.0 || lhs * lhs < scratch.cos_h * scratch.cos_h * inside)) {
+      continue;
     }
-    out.push_back(body);
+    scratch.in_cone.push_back(body);
   }
+}
+
+// How soon each ray (unit, sensor frame) may hit a target: target j lies beyond a plane
+// min_distance_m away along toward_j, which ray d reaches after min_distance_m / (d · toward_j)
+// metres, or never if d · toward_j <= 0. So no hit of ray k is nearer than 1 / s_k, with
+//     s_k = max_j (d_k · toward_j) / min_distance_j,
+// and none at all if s_k <= 0. Returns the ray with the largest s_k (the first on a tie), or
+// ray 0 when a target touches the sensor: any ray may then hit at 0, and the first one wins.
+std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& directions,
+                      ConeScratch& scratch) {
+  const std::vector<RayTarget>& targets = scratch.targets;
+  std::vector<Vec3>& per_metre = scratch.per_metre;
+  per_metre.clear();
+  bool touching = false;
+  for (const RayTarget& target : targets) {
+    if (target.min_distance_m <= 0.0) {
+      touching = true;
+      continue;
+    }
+    per_metre.push_back(rotation.transpose() * to_eigen(target.toward) / target.min_distance_m);
+  }
+  scratch.touching = touching;
+  std::vector<double>& paces = scratch.paces;
+  paces.resize(directions.size());
+  std::size_t fastest = 0;
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    double pace = -std::numeric_limits<double>::infinity();
+    for (const Vec3& step : per_metre) pace = std::max(pace, directions[k].dot(step));
+    paces[k] = pace;
+    if (pace > paces[fastest]) fastest = k;
+  }
+  return touching ? 0 : fastest;
+}
+
+// Whether ray k may hit within `limit` (only nearer than it if @p strictly).
+bool may_hit(const ConeScratch& scratch, std::size_t k, double limit, bool strictly) {
+  if (scratch.touching) return !strictly || limit > 0.0;
+  const double reach = scratch.paces[k] * limit;
+  return strictly ? reach > 1.0 : reach >= 1.0;
 }
 
 }  // namespace
@@ -79,24 +159,42 @@ void cull_to_cone(const std::vector<const Body*>& candidates, const Pose& sensor
 ConeReading read_cone(const std::vector<const Body*>& candidates, const Pose& sensor_pose,
                       const ConeSensor& sensor, const std::vector<Vec3>& directions) {
   ConeReading best;
-  thread_local std::vector<const Body*> in_cone;
-  thread_local std::vector<RayTarget> targets;
-  cull_to_cone(candidates, sensor_pose, sensor.half_angle_rad, sensor.max_range_m, in_cone);
+  ConeScratch& scratch = cone_scratch(sensor.half_angle_rad);
+  cull_to_cone(candidates, sensor_pose, sensor, scratch);
+  std::vector<RayTarget>& targets = scratch.targets;
   targets.clear();
-  for (const Body* body : in_cone) {
+  for (const Body* body : scratch.in_cone) {
     const RayTarget target = ray_target(*body, sensor_pose.position_m);
     if (target.min_distance_m <= sensor.max_range_m) targets.push_back(target);
   }
   if (targets.empty()) return best;
   const Eigen::Matrix3d rotation = sensor_pose.orientation.toRotationMatrix();
-  for (const Vec3& direction : directions) {
+  const std::size_t first = hit_paces(rotation, directions, scratch);
+  // The reading is the shortest hit over the rays, the earliest ray on a tie. The ray that may
+  // hit soonest usually finds it at once; every ray that cannot beat the best so far is then
+  // skipped, which changes nothing.
+  std::size_t best_ray = directions.size();
+  const auto try_ray = [&](std::size_t k) {
+    // Ray k wins with a shorter hit, or an equal one if it comes earlier.
     const double limit = std::min(best.distance_m, sensor.max_range_m);
-    const RayHit hit = ray_cast_targets(targets, rotation * direction, limit);
-    if (hit.handle < 0 || hit.distance_m >= best.distance_m) continue;
+    if (!may_hit(scratch, k, limit, false) ||
+        (k > best_ray && !may_hit(scratch, k, best.distance_m, true))) {
+      return;
+    }
+    const RayHit hit = ray_cast_targets(targets, rotation * directions[k], limit);
+    if (hit.handle < 0 || hit.distance_m > best.distance_m ||
+        (hit.distance_m == best.distance_m && k > best_ray)) {
+      return;
+    }
+    best_ray = k;
     best.distance_m = hit.distance_m;
     best.handle = hit.handle;
-    best.point_m = direction * hit.distance_m;
+    best.point_m = directions[k] * hit.distance_m;
     best.normal = rotation.transpose() * hit.normal;
+  };
+  try_ray(first);
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    if (k != first) try_ray(k);
   }
   return best;
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "body.hpp"
 #include "epuck_vrep_compat/body_contacts.hpp"
 #include "epuck_vrep_compat/cone_sensor.hpp"
 #include "epuck_vrep_compat/imu_model.hpp"
@@ -173,23 +174,38 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
 
   std::vector<MovableBody> bodies;
   bodies.reserve(robots_.size());
-  for (const Robot& robot : robots_) {
-    bodies.push_back({robot.handle, body_pose(robot.pose)});
-    world_.set_pose(robot.handle, bodies.back().pose);
-  }
+  for (const Robot& robot : robots_) bodies.push_back({robot.handle, body_pose(robot.pose)});
   resolve_penetrations(world_, bodies);
   world_.maintain_broadphase();
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    robots_[i].pose.x_m = bodies[i].pose.position_m.x();
+    robots_[i].pose.y_m = bodies[i].pose.position_m.y();
+  }
+
+  // What each robot's cones may see: what lies in the box its cones can reach, queried for
+  // all robots in one batch.
+  std::vector<BoxQuery> sensor_boxes;
+  sensor_boxes.reserve(robots_.size());
+  for (const Robot& robot : robots_) {
+    const Pose2& pose = robot.pose;
+    sensor_boxes.push_back(BoxQuery{
+        Vec3(pose.x_m - sensor_reach_m_, pose.y_m - sensor_reach_m_, sensor_z_min_m_),
+        Vec3(pose.x_m + sensor_reach_m_, pose.y_m + sensor_reach_m_, sensor_z_max_m_),
+        robot.handle});
+  }
+  std::vector<std::size_t> first;
+  std::vector<const Body*> seen;
+  overlap_query_batch(world_, sensor_boxes, kSensorMask, first, seen);
 
   std::vector<const Body*> candidates;
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     Robot& robot = robots_[i];
-    robot.pose.x_m = bodies[i].pose.position_m.x();
-    robot.pose.y_m = bodies[i].pose.position_m.y();
     const double yaw_rate =
         body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m).w_rad_s;
     const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
                         (robot.pose.y_m - start[i].y_m) / dt_s, yaw_rate);
     read_imu(robot, velocity, start[i].yaw_rad, dt_s);
+    candidates.assign(seen.begin() + first[i], seen.begin() + first[i + 1]);
     read_proximity(robot, candidates);
   }
   ++frame_;
@@ -227,13 +243,9 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
   robot.gyro = add_axis_noise(Vec3(0.0, 0.0, velocity.z()), robot.gyro_stddev, robot.gyro_rng);
 }
 
+// @p candidates: what the robot's cones may see (from the batch query in step).
 void EpuckSwarm::read_proximity(Robot& robot, std::vector<const Body*>& candidates) {
   const Pose2& pose = robot.pose;
-  candidates.clear();
-  world_.overlap_query(
-      Vec3(pose.x_m - sensor_reach_m_, pose.y_m - sensor_reach_m_, sensor_z_min_m_),
-      Vec3(pose.x_m + sensor_reach_m_, pose.y_m + sensor_reach_m_, sensor_z_max_m_),
-      kSensorMask, robot.handle, candidates);
   const Quat heading(Eigen::AngleAxisd(pose.yaw_rad, Vec3::UnitZ()));
   const Vec3 centre(pose.x_m, pose.y_m, 0.0);
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {

@@ -6,20 +6,13 @@
 namespace evc {
 namespace {
 
-// Combines the planar overlap with the vertical one: the shorter way out wins.
+// The planar overlap, when the heights overlap too.
 template <typename Other>
 std::optional<Penetration> prism_penetration(const UprightCircle& self, const Other& other) {
+  if (!(self.z_min_m < other.z_max_m && other.z_min_m < self.z_max_m)) return std::nullopt;
   const PlanarSeparation planar = planar_separation(self, other);
-  const double planar_depth_m = -planar.distance_m;
-  if (!(planar_depth_m > 0.0)) return std::nullopt;
-  const double rise_m = other.z_max_m - self.z_min_m;  // lift self this much to clear
-  const double sink_m = self.z_max_m - other.z_min_m;  // or lower it this much
-  const double vertical_depth_m = std::min(rise_m, sink_m);
-  if (!(vertical_depth_m > 0.0)) return std::nullopt;
-  if (planar_depth_m <= vertical_depth_m) {
-    return Penetration{Vec3(planar.normal.x(), planar.normal.y(), 0.0), planar_depth_m};
-  }
-  return Penetration{Vec3(0.0, 0.0, rise_m <= sink_m ? 1.0 : -1.0), vertical_depth_m};
+  if (!(planar.distance_m < 0.0)) return std::nullopt;
+  return Penetration{Vec3(planar.normal.x(), planar.normal.y(), 0.0), -planar.distance_m};
 }
 
 }  // namespace
@@ -58,6 +51,8 @@ PlanarSeparation planar_separation(const UprightCircle& self, const UprightRecta
 }
 
 std::optional<Penetration> penetration(const UprightCircle& self, const UprightCircle& other) {
+  const double reach_m = self.radius_m + other.radius_m;
+  if ((self.centre_m - other.centre_m).squaredNorm() >= reach_m * reach_m) return std::nullopt;
   return prism_penetration(self, other);
 }
 

@@ -33,7 +33,7 @@ def test_wall_fills_the_expected_pixels_at_the_right_depth(world):
     expected[34:86, 54:106] = True
     red = (rgb[..., 0] > 0) & (rgb[..., 1] == 0) & (rgb[..., 2] == 0)
     assert np.array_equal(red, expected)
-    assert np.all(np.abs(depth[expected] - 1.0) < 1e-3)  # along the axis, even at the edges
+    assert np.all(np.abs(depth[expected] - 1.0) < 1e-6)  # along the axis, even at the edges
     assert np.all(depth[~expected] == 5.0)
 
 
