@@ -32,15 +32,22 @@ def expected_pytest(tier):
 
 def expected_rostest():
     """{(launch file, test name): number of test cases} for every <test> of every .test file:
-    the test_* methods of a python client, one for an hztest."""
+    the test_* methods of a python client, the TEST/TEST_F cases of a gtest client (source
+    test/rostest_cpp/<type>.cpp), one for an hztest."""
     expected = {}
-    for launch in sorted(glob.glob(os.path.join(REPO, "test", "rostest", "*.test"))):
+    launches = sorted(glob.glob(os.path.join(REPO, "test", "rostest", "*.test"))
+                      + glob.glob(os.path.join(REPO, "test", "rostest_cpp", "*.test")))
+    for launch in launches:
         text = open(launch, encoding="utf-8").read()
         for tag in re.findall(r"<test\b[^>]*>", text):
             name = re.search(r'test-name="([^"]+)"', tag).group(1)
             test_type = re.search(r'type="([^"]+)"', tag).group(1)
+            cpp = os.path.join(REPO, "test", "rostest_cpp", test_type + ".cpp")
             if test_type == "hztest":
                 count = 1
+            elif os.path.exists(cpp):
+                count = len(re.findall(r"^TEST(_F)?\(", open(cpp, encoding="utf-8").read(),
+                                       re.M))
             else:
                 script = os.path.join(REPO, "test", "rostest", test_type)
                 count = len(re.findall(r"^\s+def test_", open(script, encoding="utf-8").read(),

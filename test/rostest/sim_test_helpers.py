@@ -77,7 +77,7 @@ def wait_sim_time(seconds, timeout_s=60.0):
         time.sleep(0.01)
 
 
-def simulator_topics(node="/epuck_sim"):
+def simulator_topics(node="/vrep"):
     """(published topics, subscribed topics, topic -> type) of the simulator node."""
     master = rosgraph.masterapi.Master(rospy.get_name())
     pubs, subs, _ = master.getSystemState()

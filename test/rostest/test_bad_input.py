@@ -85,7 +85,7 @@ class BadInput(unittest.TestCase):
         self._assert_alive_and_finite()
 
     def test_step_service_refuses_while_running(self):
-        step = rospy.ServiceProxy("/epuck_sim/step", StepSimulation, persistent=True)
+        step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
         for _ in range(20):
             self.assertFalse(step(3).success)
         self._assert_alive_and_finite()
@@ -117,7 +117,7 @@ class BadInput(unittest.TestCase):
         self._assert_alive_and_finite()
 
     def test_zz_no_errors_from_the_simulator(self):
-        sim_errors = [e for e in self.guard.errors if e.startswith("/epuck_sim")]
+        sim_errors = [e for e in self.guard.errors if e.startswith("/vrep")]
         self.assertEqual(sim_errors, [])
 
 

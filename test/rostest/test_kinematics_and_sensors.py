@@ -31,8 +31,8 @@ class KinematicsAndSensors(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("test_kinematics_and_sensors")
         cls.guard = RosoutGuard()
-        rospy.wait_for_service("/epuck_sim/step", timeout=30)
-        cls.step = rospy.ServiceProxy("/epuck_sim/step", StepSimulation, persistent=True)
+        rospy.wait_for_service("/vrep/step", timeout=30)
+        cls.step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
         cls.truth = Collector("/ePuck0/ground_truth", Odometry)
         cls.cmd = rospy.Publisher("/ePuck0/cmd_vel", Twist, queue_size=1)
         deadline = time.monotonic() + 20

@@ -61,7 +61,7 @@ class Robustness(unittest.TestCase):
         self.assertLess(rtf, 1.05)
 
     def test_b_reset_twenty_times_during_motion(self):
-        reset = rospy.ServiceProxy("/epuck_sim/reset", Empty)
+        reset = rospy.ServiceProxy("/vrep/reset", Empty)
         start = self._pose()
         last_stamp = 0.0
         for _ in range(20):
@@ -79,9 +79,9 @@ class Robustness(unittest.TestCase):
             last_stamp = stamp
 
     def test_c_alternating_valid_and_invalid_service_calls(self):
-        pause = rospy.ServiceProxy("/epuck_sim/pause", Empty)
-        unpause = rospy.ServiceProxy("/epuck_sim/unpause", Empty)
-        step = rospy.ServiceProxy("/epuck_sim/step", StepSimulation, persistent=True)
+        pause = rospy.ServiceProxy("/vrep/pause", Empty)
+        unpause = rospy.ServiceProxy("/vrep/unpause", Empty)
+        step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
         pause()
         try:
             frame = step(0).frame

@@ -11,32 +11,33 @@ import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
 from epuck_vrep_compat.ros import names
-from epuck_vrep_compat.scene.transforms import quat_from_yaw, quat_rotate
 
 
-def camera_info(width, height, vertical_fov_rad, frame_id) -> CameraInfo:
-    fy = 0.5 * height / math.tan(0.5 * vertical_fov_rad)
-    fx = fy                                   # square pixels
-    cx, cy = 0.5 * width, 0.5 * height
+def pinhole_camera_info(width, height, f, cx, cy, frame_id="") -> CameraInfo:
+    """An undistorted pinhole CameraInfo with square pixels (focal length ``f`` in pixels)."""
     info = CameraInfo()
     info.header.frame_id = frame_id
     info.width, info.height = width, height
     info.distortion_model = "plumb_bob"
     info.D = [0.0] * 5
-    info.K = [fx, 0, cx, 0, fy, cy, 0, 0, 1]
-    info.R = [1, 0, 0, 0, 1, 0, 0, 0, 1]
-    info.P = [fx, 0, cx, 0, 0, fy, cy, 0, 0, 0, 1, 0]
+    info.K = [f, 0.0, cx, 0.0, f, cy, 0.0, 0.0, 1.0]
+    info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+    info.P = [f, 0.0, cx, 0.0, 0.0, f, cy, 0.0, 0.0, 0.0, 1.0, 0.0]
     return info
 
 
+def camera_info(width, height, vertical_fov_rad, frame_id) -> CameraInfo:
+    f = 0.5 * height / math.tan(0.5 * vertical_fov_rad)
+    return pinhole_camera_info(width, height, f, 0.5 * width, 0.5 * height, frame_id)
+
+
 class CameraFace:
-    def __init__(self, profile, sim, params):
+    def __init__(self, profile, sim):
         self.sim = sim
-        self.params = params
+        params = sim.camera
         self._period_s = 1.0 / params.rate_hz
         self._next_due_s = np.zeros(sim.size)
-        camera = sim.robots[0].parts["camera"] if sim.size else None
-        self._mount_position = camera.local_position if camera else np.zeros(3)
+        self._sensors = [robot.parts["camera"].properties["vision"] for robot in sim.robots]
         self._frames = [profile.frame(name, names.CAMERA_FRAME) for name in sim.robot_names]
         self._images = [rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1)
                         for name in sim.robot_names]
@@ -56,13 +57,7 @@ class CameraFace:
             pub.publish(self.render(i, secs, nsecs))
 
     def render(self, i: int, secs: int, nsecs: int) -> Image:
-        x, y, yaw = self.sim.swarm.poses[i]
-        q_robot = quat_from_yaw(yaw)
-        position = np.array([x, y, 0.0]) + quat_rotate(q_robot, self._mount_position)
-        p = self.params
-        rgb, _depth = self.sim.world.render(position, q_robot, p.width, p.height,
-                                            p.vertical_fov_rad, p.near_m, p.far_m,
-                                            self.sim.robots[i].root.handle)
+        rgb, _depth = self._sensors[i].render()
         msg = Image()
         msg.header.stamp = rospy.Time(secs, nsecs)
         msg.header.frame_id = self._frames[i]
@@ -72,6 +67,3 @@ class CameraFace:
         msg.step = 3 * msg.width
         msg.data = np.ascontiguousarray(rgb, dtype=np.uint8).tobytes()
         return msg
-
-
-

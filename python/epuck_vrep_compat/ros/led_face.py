@@ -13,7 +13,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from epuck_vrep_compat.ros import commands, names
 from epuck_vrep_compat.scene.epuck_model import led_positions
 
-MARKER_TOPIC = "/epuck_sim/markers"
+MARKER_TOPIC = "/vrep/markers"
 _LED_ON = ColorRGBA(1.0, 0.05, 0.05, 1.0)
 _LED_OFF = ColorRGBA(0.25, 0.1, 0.1, 1.0)
 

@@ -9,23 +9,13 @@ import rospy
 
 from epuck_vrep_compat.ros.commands import SCALINGS
 from epuck_vrep_compat.ros.names import PROFILES
+from epuck_vrep_compat.sim.components import CameraSpec
 from epuck_vrep_compat.sim.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
 
 
 class ParamError(ValueError):
     """A parameter value the node cannot run with."""
-
-
-@dataclass
-class CameraParams:
-    # The real e-puck's typical colour acquisition: 40 x 40 sub-sampled at about 4 frames/s.
-    width: int = 40
-    height: int = 40
-    rate_hz: float = 4.0
-    vertical_fov_rad: float = 0.84       # Webots' e-puck camera field of view
-    near_m: float = 0.005
-    far_m: float = 2.0
 
 
 @dataclass
@@ -41,7 +31,7 @@ class SimParams:
     cmd_timeout_s: float = 1.0
     accel_sign: str = "ros"
     publish_ground_truth: bool = True
-    camera: CameraParams = field(default_factory=CameraParams)
+    camera: CameraSpec = field(default_factory=CameraSpec)
     noise: NoiseSettings = field(default_factory=NoiseSettings)
 
     def summary(self) -> str:

@@ -1,8 +1,9 @@
-"""The simulator node: parameters in, one simulation, its ROS faces, ``/clock``, and services.
+"""The simulator node ``/vrep``: parameters in, one simulation, its ROS faces, ``/clock``.
 
-Services (under the node's name, ``/epuck_sim`` by default):
-``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused), ``~pause``, ``~unpause``
-and ``~reset`` (``std_srvs/Empty``).
+Faces: the e-puck topic profile (``EpuckFace``, ``TfFace``, ``CameraFace``, ``LedFace``) and
+V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled streams).
+Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused),
+``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
 """
 import sys
 import threading
@@ -13,21 +14,26 @@ import rospkg
 import rospy
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty, EmptyResponse
+from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.ros.camera_face import CameraFace
 from epuck_vrep_compat.ros.epuck_face import EpuckFace
 from epuck_vrep_compat.ros.led_face import LedFace
 from epuck_vrep_compat.ros.names import PROFILES
-from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
+from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.tf_face import TfFace
+from epuck_vrep_compat.ros.vrep_face import VrepFace
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
+from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
 from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
-from tf2_msgs.msg import TFMessage
+from epuck_vrep_compat.vrep.backend import VrepBackend
 
+NODE_NAME = "vrep"
 MAX_STEPS_PER_CALL = 100000
 _LAG_RESET_S = 0.5       # behind schedule by more than this: stop trying to catch up
+_IDLE_SLEEP_S = 0.002    # poll period while paused, stopped or waiting for a trigger
 
 
 class SimulatorNode:
@@ -38,19 +44,22 @@ class SimulatorNode:
         names = [profile.robot_name(i) for i in range(params.n)]
         try:
             self.sim = Simulation(scene, names, params.step_s, params.seed, params.noise,
-                                  params.cmd_timeout_s)
+                                  params.cmd_timeout_s, params.camera)
         except SceneError as e:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
-        self.paused = params.paused
-        self._lock = threading.Lock()
+        # Reentrant: a service holding it may stop the simulation, whose listeners reset it.
+        self._lock = threading.RLock()
         self._batch = StepBatch()
+        self.control = SimulationControl(self.sim, PAUSED if params.paused else RUNNING)
+        self.control.listeners.append(self._on_state)
         self._clock = synchronous_publisher("/clock", Clock)
         self._tf_pub = synchronous_publisher("/tf", TFMessage)
         self.leds = LedFace(profile, self.sim)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
         self.tf = TfFace(profile, self.sim)
-        self.cameras = CameraFace(profile, self.sim, params.camera)
+        self.cameras = CameraFace(profile, self.sim)
+        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0), self._lock)
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
         rospy.Service("~unpause", Empty, self._on_unpause)
@@ -59,9 +68,9 @@ class SimulatorNode:
 
     # --- services ------------------------------------------------------------------------
     def _on_step(self, req):
-        if not self.paused:
-            return StepSimulationResponse(False, "the simulation is running; pause it first",
-                                          self.sim.frame, self.sim.time_s)
+        if self.control.state != PAUSED:
+            return StepSimulationResponse(False, f"the simulation is {self.control.state}; "
+                                          "pause it first", self.sim.frame, self.sim.time_s)
         if req.steps > MAX_STEPS_PER_CALL:
             return StepSimulationResponse(False, f"at most {MAX_STEPS_PER_CALL} steps per call",
                                           self.sim.frame, self.sim.time_s)
@@ -74,12 +83,12 @@ class SimulatorNode:
         return StepSimulationResponse(True, "", self.sim.frame, self.sim.time_s)
 
     def _on_pause(self, _req):
-        self.paused = True
+        self.control.pause()
         rospy.loginfo("simulation paused at t=%.3f s", self.sim.time_s)
         return EmptyResponse()
 
     def _on_unpause(self, _req):
-        self.paused = False
+        self.control.start()
         rospy.loginfo("simulation running from t=%.3f s", self.sim.time_s)
         return EmptyResponse()
 
@@ -89,21 +98,33 @@ class SimulatorNode:
         rospy.loginfo("simulation reset: robots at their start poses (time keeps running)")
         return EmptyResponse()
 
+    def _on_state(self, state):
+        if state == STOPPED:
+            with self._lock:
+                self.sim.reset()
+            rospy.loginfo("simulation stopped: the scene is back at its start")
+        elif state == RUNNING:
+            rospy.loginfo("simulation started")
+
     # --- the loop ------------------------------------------------------------------------
+    def _stamp(self):
+        stamp = rospy.Time.from_sec(self.sim.time_s)
+        return stamp, stamp.secs, stamp.nsecs
+
     def _step_and_publish(self):
         self.sim.step()
-        stamp = rospy.Time.from_sec(self.sim.time_s)
-        secs, nsecs = stamp.secs, stamp.nsecs
+        stamp, secs, nsecs = self._stamp()
         batch = self._batch
         batch.add(self._clock, Clock(clock=stamp))
         if batch.wanted(self._tf_pub):
             batch.add(self._tf_pub, self.tf.message(secs, nsecs))
         self.epucks.publish(batch, secs, nsecs)
+        self.vrep.publish(batch, secs, nsecs)
         self.cameras.publish(secs, nsecs)
         self.leds.publish()
 
     def spin(self):
-        """Step at ``rtf`` times real time (or as fast as possible at 0).
+        """Step at ``rtf`` times real time (or as fast as possible at 0) while running.
 
         Messages are flushed before every sleep, so a simulation that keeps its schedule
         delivers every step at once; one that runs flat out flushes every ``max_delay_s``.
@@ -112,10 +133,12 @@ class SimulatorNode:
         deadline = time.monotonic()
         batch = self._batch
         while not rospy.is_shutdown():
-            if self.paused:
+            if not self.control.may_step():
                 with self._lock:
+                    self.vrep.publish_idle(batch, self._stamp()[0])
+                    self.leds.publish()
                     batch.flush()
-                time.sleep(0.01)
+                time.sleep(_IDLE_SLEEP_S)
                 deadline = time.monotonic()
                 continue
             with self._lock:
@@ -124,7 +147,7 @@ class SimulatorNode:
                 if period_s > 0.0:
                     deadline += period_s
                     delay = deadline - time.monotonic()
-                if delay > 0.0 or batch.due():
+                if delay > 0.0 or batch.due() or self.control.synchronous:
                     batch.flush()
             if delay > 0.0:
                 time.sleep(max(0.0, deadline - time.monotonic()))
@@ -137,7 +160,7 @@ def main():
         sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
                          "roscore, or start the simulator with roslaunch\n")
         return 1
-    rospy.init_node("epuck_sim")
+    rospy.init_node(NODE_NAME)
     default_world = rospkg.RosPack().get_path("epuck_vrep_compat") + "/worlds/arena.yaml"
     try:
         params = read_params(default_world)

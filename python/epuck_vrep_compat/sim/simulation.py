@@ -15,7 +15,8 @@ from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import RobotParts, default_model, register_epuck
 from epuck_vrep_compat.scene.placement import place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
-from epuck_vrep_compat.scene.transforms import quat_from_yaw
+from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
+from epuck_vrep_compat.sim.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
 from epuck_vrep_compat.sim.noise import NoiseSettings
 
 FLOOR_THICKNESS_M = 0.01
@@ -31,7 +32,8 @@ class RobotCommand:
 
 class Simulation:
     def __init__(self, scene: Scene, robot_names: Sequence[str], step_s: float = 0.05,
-                 seed: int = 0, noise: NoiseSettings = None, cmd_timeout_s: float = 1.0):
+                 seed: int = 0, noise: NoiseSettings = None, cmd_timeout_s: float = 1.0,
+                 camera: CameraSpec = None):
         if step_s <= 0.0 or not math.isfinite(step_s):
             raise ValueError(f"step_s must be a positive number, got {step_s}")
         self.scene = scene
@@ -39,6 +41,7 @@ class Simulation:
         self.seed = int(seed)
         self.cmd_timeout_s = float(cmd_timeout_s)
         self.robot_names: List[str] = list(robot_names)
+        self.camera = camera if camera is not None else CameraSpec()
         self.model = default_model()
         self.registry = reg.SceneRegistry()
         self.world = CollisionWorld()
@@ -53,6 +56,7 @@ class Simulation:
             x, y, yaw = self.start_poses[i]
             self.swarm.add_robot(parts.root.handle, x, y, yaw)
             self.swarm.set_odometry(i, x, y, yaw)
+            self._attach_components(i, parts)
             self.robots.append(parts)
         n = len(self.robot_names)
         self.command = RobotCommand(np.zeros((n, 2)), np.full(n, -np.inf))
@@ -96,6 +100,14 @@ class Simulation:
         self.world.add_box(obj.handle, 0.5 * np.asarray(size, dtype=float),
                            np.asarray(position, dtype=float), quat, color, group)
 
+    def _attach_components(self, i, parts):
+        for column, side in enumerate(("left", "right")):
+            parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(self, i, column)
+        for k in range(len(self.model.sensors)):
+            parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(self, i, k)
+        parts.parts["camera"].properties["vision"] = VisionSensor(
+            self, parts.handle("camera"), self.camera, ignore_handle=parts.root.handle)
+
     def _root_pose_source(self, i):
         def pose():
             x, y, yaw = self._poses[i]
@@ -117,6 +129,35 @@ class Simulation:
         self.command.wheel_rad_s[index] = (left_rad_s, right_rad_s)
         self.command.stamp_s[index] = self.time_s
         return True
+
+    def set_wheel_speed(self, index: int, column: int, rad_s: float):
+        """One wheel's speed, as a joint command: it persists (no cmd_vel watchdog)."""
+        self.command.wheel_rad_s[index, column] = rad_s
+        self.command.stamp_s[index] = np.inf
+
+    def move_object(self, obj, position, quat):
+        """Teleport a robot (its base object: x, y and yaw; robots stay on the ground) or a
+        free scene object. Parts of a robot are rigid: ValueError."""
+        if obj.robot is not None:
+            if obj.part != "root":
+                raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; move the robot's "
+                                 "base object instead")
+            i = self._index_by_name[obj.robot]
+            self.swarm.set_pose(i, float(position[0]), float(position[1]),
+                                float(yaw_of(quat)))
+            self._poses = self.swarm.poses
+            return
+        obj.local_position = np.asarray(position, dtype=float)
+        obj.local_quat = np.asarray(quat, dtype=float)
+        if self.world.has(obj.handle):
+            self.world.set_pose(obj.handle, obj.local_position, obj.local_quat)
+
+    def object_velocity(self, obj):
+        """(linear (3), angular (3)) in the world frame; robot parts move with their robot."""
+        if obj.robot is None:
+            return np.zeros(3), np.zeros(3)
+        vx, vy, wz = self.swarm.velocities[self._index_by_name[obj.robot]]
+        return np.array([vx, vy, 0.0]), np.array([0.0, 0.0, wz])
 
     # --- stepping ------------------------------------------------------------------------------
     @property

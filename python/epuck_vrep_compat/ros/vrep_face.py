@@ -1,0 +1,58 @@
+"""The ``/vrep`` face: V-REP's legacy ROS plugin (vrep_common) on our simulation.
+
+``/vrep/info`` goes out once per simulation step (and every ``IDLE_INFO_PERIOD_S`` of wall time
+while paused, stopped or waiting for a synchronous trigger, as on the plugin's GUI passes); the
+``simRos*`` services and the enabled streams are in :mod:`vrep_services` and
+:mod:`vrep_streams`. The simulator node must be named ``vrep`` so that everything lands under
+``/vrep/`` as clients expect.
+"""
+import time
+
+import rospy
+from std_msgs.msg import Float32, Int32
+from vrep_common.msg import VrepInfo
+
+from epuck_vrep_compat.ros.publishing import synchronous_publisher
+from epuck_vrep_compat.ros.vrep_services import VrepServices
+from epuck_vrep_compat.ros.vrep_streams import VrepStreams
+from epuck_vrep_compat.sim.control import STOPPED
+
+IDLE_INFO_PERIOD_S = 0.05
+
+
+class VrepFace:
+    def __init__(self, backend, lock):
+        self.backend = backend
+        self._info = synchronous_publisher("~info", VrepInfo)
+        self.streams = VrepStreams(backend, lock)
+        self.services = VrepServices(backend, lock, self.streams)
+        self._last_idle_info = 0.0
+        backend.control.listeners.append(self._on_state)
+
+    def _on_state(self, state):
+        if state == STOPPED:
+            self.streams.remove_all()
+
+    def info_message(self, stamp) -> VrepInfo:
+        frame_id, state, sim_time, step = self.backend.info()
+        msg = VrepInfo()
+        msg.headerInfo.seq = frame_id & 0xFFFFFFFF      # -1 before a start, as V-REP's uint32
+        msg.headerInfo.stamp = stamp
+        msg.simulatorState = Int32(state)
+        msg.simulationTime = Float32(sim_time)
+        msg.timeStep = Float32(step)
+        return msg
+
+    def publish(self, batch, secs: int, nsecs: int):
+        """After a step: info, then every enabled stream (one way: state -> ROS)."""
+        batch.add(self._info, self.info_message(rospy.Time(secs, nsecs)))
+        self.streams.publish(batch, secs, nsecs)
+
+    def publish_idle(self, batch, stamp):
+        """While not stepping (paused, stopped, waiting for a trigger): info and the enabled
+        streams every ``IDLE_INFO_PERIOD_S``, as the plugin did on V-REP's GUI passes."""
+        now = time.monotonic()
+        if now - self._last_idle_info >= IDLE_INFO_PERIOD_S:
+            self._last_idle_info = now
+            batch.add(self._info, self.info_message(stamp))
+            self.streams.publish(batch, stamp.secs, stamp.nsecs)

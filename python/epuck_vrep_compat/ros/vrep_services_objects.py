@@ -1,0 +1,136 @@
+"""``simRos*`` handlers for scene objects: handles, lists, parent/child, group data, poses,
+selection and object parameters (VP ``ROS_server.cpp``, one V-REP call each).
+
+Every handler is ``handler(backend, req, errors) -> response``: it raises ``VrepError`` for
+V-REP's failure answer, or appends to ``errors`` what V-REP reports while still answering (an
+unknown handle among several).
+"""
+import rospy
+from vrep_common import srv
+
+from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.vrep.backend import VrepError
+from epuck_vrep_compat.vrep.group_data import group_data
+
+
+def sim_stamp(backend):
+    """Stamps of the /vrep services are simulation time, like /clock."""
+    return rospy.Time.from_sec(backend.sim.time_s)
+
+
+def frame_seq(backend) -> int:
+    """V-REP's simulation frame id as a header seq (uint32: -1 before a start)."""
+    return backend.control.frame_id & 0xFFFFFFFF
+
+
+def get_object_handle(backend, req, errors):
+    if not req.objectName:
+        raise VrepError("object name is empty")
+    return srv.simRosGetObjectHandleResponse(handle=backend.object_handle(req.objectName))
+
+
+def get_objects(backend, req, errors):
+    # V-REP counts with simGetObjects(index, type) until it fails: a bad type answers 0 objects.
+    if req.objectType == vc.APPOBJ_OBJECT:
+        errors.append(f"object type {req.objectType} is not valid (use -2 for all objects)")
+        return srv.simRosGetObjectsResponse(result=0, handles=[])
+    try:
+        handles = backend.objects(req.objectType)
+    except VrepError as e:
+        errors.append(str(e))
+        handles = []
+    return srv.simRosGetObjectsResponse(result=len(handles), handles=handles)
+
+
+def get_object_parent(backend, req, errors):
+    return srv.simRosGetObjectParentResponse(parentHandle=backend.parent(req.handle))
+
+
+def get_object_child(backend, req, errors):
+    return srv.simRosGetObjectChildResponse(childHandle=backend.child(req.handle, req.index))
+
+
+def get_object_group_data(backend, req, errors):
+    handles, ints, floats, strings = group_data(backend, req.objectType, req.dataType)
+    return srv.simRosGetObjectGroupDataResponse(handles=handles, intData=ints,
+                                                floatData=floats, strings=strings)
+
+
+def get_object_pose(backend, req, errors):
+    position, quat = backend.pose(req.handle, req.relativeToObjectHandle)
+    res = srv.simRosGetObjectPoseResponse(result=1)
+    res.pose.header.seq = frame_seq(backend)
+    res.pose.header.stamp = sim_stamp(backend)
+    p, o = res.pose.pose.position, res.pose.pose.orientation
+    p.x, p.y, p.z = (float(v) for v in position)
+    o.x, o.y, o.z, o.w = (float(v) for v in quat)
+    return res
+
+
+def _position(point):
+    return [point.x, point.y, point.z]
+
+
+def _quaternion(q):
+    return [q.x, q.y, q.z, q.w]
+
+
+def set_object_pose(backend, req, errors):
+    backend.set_pose(req.handle, req.relativeToObjectHandle, _position(req.pose.position),
+                     _quaternion(req.pose.orientation))
+    return srv.simRosSetObjectPoseResponse(result=1)
+
+
+def set_object_position(backend, req, errors):
+    backend.set_pose(req.handle, req.relativeToObjectHandle, position=_position(req.position))
+    return srv.simRosSetObjectPositionResponse(result=1)
+
+
+def set_object_quaternion(backend, req, errors):
+    backend.set_pose(req.handle, req.relativeToObjectHandle, quat=_quaternion(req.quaternion))
+    return srv.simRosSetObjectQuaternionResponse(result=1)
+
+
+def get_object_selection(backend, req, errors):
+    return srv.simRosGetObjectSelectionResponse(handles=backend.selection())
+
+
+def set_object_selection(backend, req, errors):
+    for handle in backend.set_selection(req.handles):
+        errors.append(f"object handle {handle} does not exist; not selected")
+    return srv.simRosSetObjectSelectionResponse(result=len(backend.selection()))
+
+
+def get_object_int_parameter(backend, req, errors):
+    value = backend.object_int_parameter(req.handle, req.parameterID)
+    return srv.simRosGetObjectIntParameterResponse(result=1, parameterValue=int(value))
+
+
+def get_object_float_parameter(backend, req, errors):
+    value = backend.object_float_parameter(req.handle, req.parameterID)
+    return srv.simRosGetObjectFloatParameterResponse(result=1, parameterValue=float(value))
+
+
+def _set_object_parameter(backend, req, errors):
+    backend.object_type(req.handle)              # an unknown handle is reported as such
+    raise VrepError(f"parameter {req.parameter} of object {req.handle} cannot be set in this "
+                    "simulator")
+
+
+HANDLERS = {
+    "simRosGetObjectHandle": get_object_handle,
+    "simRosGetObjects": get_objects,
+    "simRosGetObjectParent": get_object_parent,
+    "simRosGetObjectChild": get_object_child,
+    "simRosGetObjectGroupData": get_object_group_data,
+    "simRosGetObjectPose": get_object_pose,
+    "simRosSetObjectPose": set_object_pose,
+    "simRosSetObjectPosition": set_object_position,
+    "simRosSetObjectQuaternion": set_object_quaternion,
+    "simRosGetObjectSelection": get_object_selection,
+    "simRosSetObjectSelection": set_object_selection,
+    "simRosGetObjectIntParameter": get_object_int_parameter,
+    "simRosGetObjectFloatParameter": get_object_float_parameter,
+    "simRosSetObjectIntParameter": _set_object_parameter,
+    "simRosSetObjectFloatParameter": _set_object_parameter,
+}

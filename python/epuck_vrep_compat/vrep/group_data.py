@@ -1,0 +1,182 @@
+"""simRosGetObjectGroupData's data (VP ``ROS_server::getObjectGroupData``): one kind of data for
+every object of a group, appended in object order.
+
+The group is every scene object (``objectType`` 109) or every object of one type (0..107); any
+other value is a collection handle in V-REP, and this scene has no collections. V-REP 3.3.0
+returns only the group's first object (its ``return(true)`` sits inside the object loop); we
+return every object, as V-REP 3.2.1 did, which is what clients that index past element 0 need.
+ROS-free: the ``/vrep`` service and the ``get_object_group_data`` stream both call
+:func:`group_data`.
+"""
+import math
+
+from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.vrep.backend import VrepError
+
+NO_DATA = ((), (), ())        # (ints, floats, strings) of one object
+
+
+def vrep_euler_angles(quat):
+    """V-REP's Euler angles (alpha, beta, gamma) of a quaternion (x, y, z, w): the rotation is
+    Rx(alpha) Ry(beta) Rz(gamma), as simGetObjectOrientation reports it."""
+    x, y, z, w = (float(v) for v in quat)
+    r02 = 2.0 * (x * z + w * y)
+    r12 = 2.0 * (y * z - w * x)
+    r22 = 1.0 - 2.0 * (x * x + y * y)
+    r01 = 2.0 * (x * y - w * z)
+    r00 = 1.0 - 2.0 * (y * y + z * z)
+    beta = math.asin(max(-1.0, min(1.0, r02)))
+    if abs(r02) > 1.0 - 1e-12:        # gimbal lock: put all of the z rotation into alpha
+        r21 = 2.0 * (y * z + w * x)
+        r11 = 1.0 - 2.0 * (x * x + z * z)
+        return [math.atan2(r21, r11), beta, 0.0]
+    return [math.atan2(-r12, r22), beta, math.atan2(-r01, r00)]
+
+
+def group_handles(backend, object_type: int):
+    """Handles of the group's objects, in handle order."""
+    if object_type == vc.APPOBJ_OBJECT:
+        return backend.objects(vc.HANDLE_ALL)
+    if 0 <= object_type < vc.OBJECT_TYPE_END:
+        return backend.objects(object_type)
+    raise VrepError(f"object type {object_type} is neither 109 (all objects), an object type "
+                    "0..107 nor a collection (the scene defines no collections)")
+
+
+def _frame(data_type: int) -> int:
+    """Even data types 4..12 are relative to the parent, odd ones absolute."""
+    return vc.HANDLE_PARENT if data_type % 2 == 0 else vc.WORLD
+
+
+def _position(backend, handle, data_type):
+    return list(backend.pose(handle, _frame(data_type))[0])
+
+
+def _euler(backend, handle, data_type):
+    return vrep_euler_angles(backend.pose(handle, _frame(data_type))[1])
+
+
+def _quaternion(backend, handle, data_type):
+    return list(backend.pose(handle, _frame(data_type))[1])
+
+
+def _names(backend, handle, _):
+    return (), (), (backend.object_name(handle),)
+
+
+def _types(backend, handle, _):
+    return (backend.object_type(handle),), (), ()
+
+
+def _parents(backend, handle, _):
+    return (backend.parent(handle),), (), ()
+
+
+def _positions(backend, handle, data_type):
+    return (), _position(backend, handle, data_type), ()
+
+
+def _eulers(backend, handle, data_type):
+    return (), _euler(backend, handle, data_type), ()
+
+
+def _quaternions(backend, handle, data_type):
+    return (), _quaternion(backend, handle, data_type), ()
+
+
+def _poses_euler(backend, handle, data_type):
+    return (), _position(backend, handle, data_type) + _euler(backend, handle, data_type), ()
+
+
+def _poses_quaternion_as_plugin(backend, handle, data_type):
+    # The plugin's bug, reproduced: it fills the "quaternion" with simGetObjectOrientation, so
+    # clients get 3 Euler angles and a fourth, never written value (0.0 here) instead of a
+    # quaternion.
+    floats = _position(backend, handle, data_type) + _euler(backend, handle, data_type)
+    return (), floats + [0.0], ()
+
+
+def _proximity(backend, handle, _):
+    if backend.object_type(handle) != vc.OBJECT_PROXIMITY_SENSOR:
+        return (-1, -1), [0.0] * 6, ()
+    state, point, detected, normal = backend.proximity(handle)
+    return (int(state), int(detected)), list(point) + list(normal), ()
+
+
+def _force(backend, handle, _):
+    if backend.object_type(handle) != vc.OBJECT_FORCE_SENSOR:
+        return (-1,), [0.0] * 6, ()
+    state, force, torque = backend.read_force_sensor(handle)
+    return (int(state),), list(force) + list(torque), ()
+
+
+def _joint_state(backend, handle, _):
+    if backend.object_type(handle) != vc.OBJECT_JOINT:
+        return (), [0.0, 0.0], ()
+    position, _velocity, effort = backend.joint_state(handle)
+    return (), [position, effort], ()
+
+
+def _joint_properties(backend, handle, _):
+    if backend.object_type(handle) != vc.OBJECT_JOINT:
+        return (-1, -1), [0.0, 0.0], ()
+    joint = backend.joint(handle)
+    mode = joint.mode | (vc.JOINTMODE_HYBRID_FLAG if getattr(joint, "hybrid", False) else 0)
+    span = -1.0 if joint.cyclic else joint.range_span
+    return (joint.joint_type, mode), [joint.range_min, span], ()
+
+
+def _linear_velocity(backend, handle, _):
+    return (), list(backend.velocity(handle)[0]), ()
+
+
+def _angular_velocity(backend, handle, _):
+    return (), list(backend.velocity(handle)[1]), ()
+
+
+def _twist(backend, handle, _):
+    linear, angular = backend.velocity(handle)
+    return (), list(linear) + list(angular), ()
+
+
+_READERS = {
+    vc.GROUP_DATA_NAMES: _names,
+    vc.GROUP_DATA_TYPES: _types,
+    vc.GROUP_DATA_PARENTS: _parents,
+    vc.GROUP_DATA_ABS_POSITION: _positions,
+    vc.GROUP_DATA_REL_POSITION: _positions,
+    vc.GROUP_DATA_ABS_EULER: _eulers,
+    vc.GROUP_DATA_REL_EULER: _eulers,
+    vc.GROUP_DATA_ABS_QUATERNION: _quaternions,
+    vc.GROUP_DATA_REL_QUATERNION: _quaternions,
+    vc.GROUP_DATA_ABS_POSE_EULER: _poses_euler,
+    vc.GROUP_DATA_REL_POSE_EULER: _poses_euler,
+    vc.GROUP_DATA_ABS_POSE_QUATERNION: _poses_quaternion_as_plugin,
+    vc.GROUP_DATA_REL_POSE_QUATERNION: _poses_quaternion_as_plugin,
+    vc.GROUP_DATA_PROXIMITY: _proximity,
+    vc.GROUP_DATA_FORCE: _force,
+    vc.GROUP_DATA_JOINT_STATE: _joint_state,
+    vc.GROUP_DATA_JOINT_PROPERTIES: _joint_properties,
+    vc.GROUP_DATA_LINEAR_VELOCITY: _linear_velocity,
+    vc.GROUP_DATA_ANGULAR_VELOCITY: _angular_velocity,
+    vc.GROUP_DATA_TWIST: _twist,
+}
+
+
+def group_data(backend, object_type: int, data_type: int):
+    """(handles, ints, floats, strings) of a group; VrepError for an unknown object or data
+    type (V-REP would answer an unknown data type with the handles alone)."""
+    reader = _READERS.get(data_type)
+    if reader is None:
+        raise VrepError(f"data type {data_type} is not one of 0..19")
+    handles = group_handles(backend, object_type)
+    ints, floats, strings = [], [], []
+    for handle in handles:
+        i, f, s = reader(backend, handle, data_type)
+        ints.extend(int(v) for v in i)
+        floats.extend(float(v) for v in f)
+        strings.extend(s)
+    return handles, ints, floats, strings
+
+
+__all__ = ["group_data", "group_handles", "vrep_euler_angles"]
