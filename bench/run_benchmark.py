@@ -105,7 +105,11 @@ def run_ours(n, measure_s, subscribe):
                   "rtf": round(rtf, 3), "peak_rss_mb": round(peak_rss_mb(sim.pid), 1)}
         if sub is not None:
             sub.send_signal(2)
-            out, _ = sub.communicate(timeout=30)
+            try:
+                out, _ = sub.communicate(timeout=180)   # closing 14k connections takes a while
+            except subprocess.TimeoutExpired:
+                sub.kill()
+                out, _ = sub.communicate()
             line = out.decode().strip().splitlines()
             if line:
                 stats = json.loads(line[-1])

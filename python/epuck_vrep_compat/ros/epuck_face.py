@@ -4,6 +4,8 @@ Publishing happens once per step from the simulation thread, only for publishers
 subscriber (tracked by a subscribe listener, so idle robots cost nothing). Per-step messages go
 out synchronously (see ``publishing.py``). Callbacks only validate and store commands.
 """
+import threading
+
 import numpy as np
 import rospy
 from geometry_msgs.msg import Twist
@@ -23,15 +25,18 @@ class _ConnectionCounter(rospy.SubscribeListener):
     (a failed write and the transport's cleanup), so counting events would drift.
     """
 
-    def __init__(self, counts, index):
+    def __init__(self, counts, index, lock):
         super().__init__()
         self._counts = counts
         self._index = index
+        self._lock = lock
         self.publishers = []
 
     def _recount(self):
-        self._counts[self._index] = sum(len(p.impl.connections) for p in self.publishers
-                                        if p.impl is not None and p.impl.connections)
+        count = sum(len(p.impl.connections) for p in self.publishers
+                    if p.impl is not None and p.impl.connections)
+        with self._lock:                   # the step thread snapshots the counts under it
+            self._counts[self._index] = count
 
     def peer_subscribe(self, topic_name, topic_publish, peer_publish):
         self._recount()
@@ -45,7 +50,7 @@ class _Robot:
 
     def __init__(self, face, index, name):
         profile = face.profile
-        listener = _ConnectionCounter(face.connections, index)
+        listener = _ConnectionCounter(face.connections, index, face.connections_lock)
 
         def publisher(role, msg_class):
             pub = synchronous_publisher(profile.topic(name, role), msg_class,
@@ -71,6 +76,7 @@ class EpuckFace:
         self.publish_ground_truth = publish_ground_truth
         self.gravity_sign = GRAVITY_SIGN[accel_sign]
         self.connections = np.zeros(sim.size, dtype=np.int64)
+        self.connections_lock = threading.Lock()
         self.robots = [_Robot(self, i, name) for i, name in enumerate(sim.robot_names)]
         self._sensor_yaws = [s.yaw_rad for s in sim.model.sensors]
         self._max_range = profile.range.max_range_m
@@ -86,6 +92,20 @@ class EpuckFace:
                                          orientation_known=profile.name == "epuck_driver")
         self._odom_batch = wire.odometry_batch(names.ODOM_FRAME,
                                                [frame(r, names.BASE_FRAME) for r in robots])
+        for i, robot in enumerate(self.robots):
+            robot.outputs = self._outputs(i, robot)
+
+    def _outputs(self, i, robot):
+        """(publisher, message kind, byte range of its frame in the kind's packed step)."""
+        per_robot = names.PROXIMITY_COUNT
+        out = [(pub, "range", self._range_batch.bounds(i * per_robot + k))
+               for k, pub in enumerate(robot.ranges)]
+        out.append((robot.imu, "imu", self._imu_batch.bounds(i)))
+        if robot.ground_truth is not None:
+            out.append((robot.ground_truth, "ground_truth", self._odom_batch.bounds(i)))
+        if robot.odom is not None:
+            out.append((robot.odom, "odom", self._odom_batch.bounds(i)))
+        return out
 
     # --- commands ------------------------------------------------------------------------
     def on_cmd_vel(self, msg, index):
@@ -100,33 +120,23 @@ class EpuckFace:
     # --- per step ------------------------------------------------------------------------
     def publish(self, batch, secs: int, nsecs: int):
         """Queue this step's sensor messages of every robot someone listens to."""
-        active = np.flatnonzero(self.connections)
+        with self.connections_lock:
+            active = np.flatnonzero(self.connections)
         if active.size == 0:
             return
-        swarm = self.sim.swarm
-        wanted = batch.wanted
         packed = {}
-
-        def frames(kind):
-            if kind not in packed:
-                packed[kind] = self._pack(kind, secs, nsecs)
-            return packed[kind]
-        per_robot = names.PROXIMITY_COUNT
+        add_frame = batch.add_frame
         for i in active.tolist():
             robot = self.robots[i]
-            for k, pub in enumerate(robot.ranges):
-                if wanted(pub):
-                    batch.add_frame(pub, self._range_batch.frame(frames("range"),
-                                                                 i * per_robot + k))
-            if wanted(robot.imu):
-                batch.add_frame(robot.imu, self._imu_batch.frame(frames("imu"), i))
-            if robot.ground_truth is not None and wanted(robot.ground_truth):
-                batch.add_frame(robot.ground_truth,
-                                self._odom_batch.frame(frames("ground_truth"), i))
-            if robot.odom is not None and wanted(robot.odom):
-                batch.add_frame(robot.odom, self._odom_batch.frame(frames("odom"), i))
-            if robot.scan is not None and wanted(robot.scan):
-                batch.add(robot.scan, self._scan(robot, secs, nsecs, swarm.ranges_clean[i]))
+            for pub, kind, (start, end) in robot.outputs:
+                if pub.impl.connections:
+                    data = packed.get(kind)
+                    if data is None:
+                        data = packed[kind] = self._pack(kind, secs, nsecs)
+                    add_frame(pub, data[start:end])
+            if robot.scan is not None and robot.scan.impl.connections:
+                batch.add(robot.scan, self._scan(robot, secs, nsecs,
+                                                 self.sim.swarm.ranges_clean[i]))
 
     def _pack(self, kind, secs, nsecs) -> bytes:
         swarm = self.sim.swarm

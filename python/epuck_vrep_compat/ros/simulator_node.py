@@ -8,6 +8,7 @@ Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while
 import sys
 import threading
 import time
+import traceback
 
 import rosgraph
 import rospkg
@@ -123,6 +124,14 @@ class SimulatorNode:
         self.cameras.publish(secs, nsecs)
         self.leds.publish()
 
+    @staticmethod
+    def _guarded(work):
+        """A bug in one face must not stop the simulation: log it loudly and go on."""
+        try:
+            work()
+        except Exception:  # noqa: BLE001 - the loop outlives any one failure, which is logged
+            rospy.logerr_throttle(5.0, "simulation step failed:\n" + traceback.format_exc())
+
     def spin(self):
         """Step at ``rtf`` times real time (or as fast as possible at 0) while running.
 
@@ -142,7 +151,7 @@ class SimulatorNode:
                 deadline = time.monotonic()
                 continue
             with self._lock:
-                self._step_and_publish()
+                self._guarded(self._step_and_publish)
                 delay = 0.0
                 if period_s > 0.0:
                     deadline += period_s

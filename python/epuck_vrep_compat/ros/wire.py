@@ -78,6 +78,10 @@ class MessageBatch:
             buf[index] = data.view(np.uint8).reshape(self.size, -1)
         return buf.tobytes()
 
+    def bounds(self, i: int):
+        """(start, end) of frame i in the bytes ``pack`` returns."""
+        return self._bounds[i]
+
     def frame(self, data: bytes, i: int) -> bytes:
         start, end = self._bounds[i]
         return data[start:end]

@@ -33,9 +33,29 @@ def quat_from_rpy(roll, pitch, yaw):
                              quat_from_axis_angle((1, 0, 0), roll)))
 
 
+def _mul4(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return np.array((aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx,
+                     aw * bz + ax * by - ay * bx + az * bw,
+                     aw * bw - ax * bx - ay * by - az * bz))
+
+
+def _rotate3(q, v):
+    x, y, z, w = q
+    vx, vy, vz = v
+    tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
+    return np.array((vx + w * tx + y * tz - z * ty,
+                     vy + w * ty + z * tx - x * tz,
+                     vz + w * tz + x * ty - y * tx))
+
+
 def quat_mul(a, b):
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
+    if a.ndim == 1 and b.ndim == 1:
+        return _mul4(a.tolist(), b.tolist())     # one pose: plain floats beat numpy's overhead
     ax, ay, az, aw = np.moveaxis(a, -1, 0)
     bx, by, bz, bw = np.moveaxis(b, -1, 0)
     return np.stack((
@@ -55,6 +75,8 @@ def quat_rotate(q, v):
     """Rotate vectors ``v`` (..., 3) by unit quaternions ``q`` (..., 4)."""
     q = np.asarray(q, dtype=float)
     v = np.asarray(v, dtype=float)
+    if q.ndim == 1 and v.ndim == 1:
+        return _rotate3(q.tolist(), v.tolist())
     u = q[..., :3]
     w = q[..., 3:4]
     t = 2.0 * np.cross(u, v)
