@@ -1,0 +1,54 @@
+"""Noise configuration: validation names the parameter; per-robot, per-sensor values reach the
+core; the master switch turns every source off."""
+import numpy as np
+import pytest
+
+from epuck_vrep_compat import CollisionWorld, EpuckModel, EpuckSwarm
+from epuck_vrep_compat.sim.noise import (IrNoise, NoiseConfigError, NoiseSettings, per_sensor,
+                                          triple)
+
+
+def _swarm(n):
+    swarm = EpuckSwarm(CollisionWorld(), EpuckModel(), 7)
+    for i in range(n):
+        swarm.add_robot(10 + i, 0.5 * i, 0.0, 0.0)
+    return swarm
+
+
+def test_per_sensor_accepts_scalar_or_eight_and_names_the_parameter():
+    np.testing.assert_array_equal(per_sensor(0.2, "~p"), np.full(8, 0.2))
+    np.testing.assert_array_equal(per_sensor(list(range(8)), "~p"), np.arange(8.0))
+    for bad in ([1, 2, 3], "x", [0.1] * 7 + [float("nan")], True):
+        with pytest.raises(NoiseConfigError, match="~p"):
+            per_sensor(bad, "~p")
+    with pytest.raises(NoiseConfigError, match="~ir_noise/stddev_m"):
+        per_sensor(-0.1, "~ir_noise/stddev_m", 0.0)
+    with pytest.raises(NoiseConfigError, match="~probability"):
+        per_sensor(1.5, "~probability", 0.0, 1.0)
+    with pytest.raises(NoiseConfigError, match="~a"):
+        triple([-1, 0, 0], "~a")
+
+
+def test_per_robot_override_changes_only_that_robot():
+    # Readings at max range: with probability 1 and a large SD every reading of robot 1 moves
+    # inward, robot 0 keeps the default (probability 0 here) and reads exactly max range.
+    settings = NoiseSettings(ir=IrNoise(probability=np.zeros(8), mean_m=np.zeros(8),
+                                        stddev_m=np.zeros(8)),
+                             accel_stddev_m_s2=np.zeros(3), gyro_stddev_rad_s=np.zeros(3),
+                             wheel_slip_stddev=0.0)
+    settings.ir_per_robot[1] = IrNoise(probability=np.ones(8), mean_m=np.full(8, 0.01),
+                                       stddev_m=np.full(8, 0.001))
+    swarm = _swarm(2)
+    settings.apply(swarm, 2)
+    swarm.step(0.05, np.zeros((2, 2)))
+    np.testing.assert_array_equal(swarm.ranges[0], swarm.ranges_clean[0])
+    assert np.all(swarm.ranges[1] < swarm.ranges_clean[1])
+
+
+def test_master_switch_turns_every_source_off():
+    swarm = _swarm(1)
+    NoiseSettings(enabled=False).apply(swarm, 1)
+    for _ in range(5):
+        swarm.step(0.05, np.array([[1.0, 1.0]]))
+    np.testing.assert_array_equal(swarm.ranges, swarm.ranges_clean)
+    np.testing.assert_allclose(swarm.poses[0, :2], swarm.odometry[0, :2], atol=1e-12)
