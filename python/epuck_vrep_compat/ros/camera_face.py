@@ -13,6 +13,17 @@ from sensor_msgs.msg import CameraInfo, Image
 from epuck_vrep_compat.ros import names
 
 
+def fill_image(msg: Image, pixels) -> Image:
+    """Fill ``msg`` with top-row-first pixels: (H, W, 3) as rgb8, (H, W) as mono8."""
+    mono = pixels.ndim == 2
+    msg.height, msg.width = int(pixels.shape[0]), int(pixels.shape[1])
+    msg.encoding = "mono8" if mono else "rgb8"
+    msg.is_bigendian = 0
+    msg.step = msg.width * (1 if mono else 3)
+    msg.data = np.ascontiguousarray(pixels, dtype=np.uint8).tobytes()
+    return msg
+
+
 def pinhole_camera_info(width, height, f, cx, cy, frame_id="") -> CameraInfo:
     """An undistorted pinhole CameraInfo with square pixels (focal length ``f`` in pixels)."""
     info = CameraInfo()
@@ -58,12 +69,7 @@ class CameraFace:
 
     def render(self, i: int, secs: int, nsecs: int) -> Image:
         rgb, _depth = self._sensors[i].render()
-        msg = Image()
+        msg = fill_image(Image(), rgb)
         msg.header.stamp = rospy.Time(secs, nsecs)
         msg.header.frame_id = self._frames[i]
-        msg.height, msg.width = rgb.shape[0], rgb.shape[1]
-        msg.encoding = "rgb8"
-        msg.is_bigendian = 0
-        msg.step = 3 * msg.width
-        msg.data = np.ascontiguousarray(rgb, dtype=np.uint8).tobytes()
         return msg

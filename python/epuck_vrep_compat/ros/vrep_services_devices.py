@@ -2,9 +2,9 @@
 
 Same handler shape as :mod:`vrep_services_objects`: ``handler(backend, req, errors)``.
 """
-import numpy as np
 from vrep_common import srv
 
+from epuck_vrep_compat.ros.camera_face import fill_image
 from epuck_vrep_compat.ros.vrep_services_objects import frame_seq, sim_stamp
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
@@ -73,12 +73,7 @@ def get_vision_sensor_image(backend, req, errors):
     mono = bool(req.options & 1)
     pixels = backend.vision_image(req.handle, mono)
     res = srv.simRosGetVisionSensorImageResponse(result=1)
-    image = res.image                     # header left default, as the plugin did
-    image.height, image.width = int(pixels.shape[0]), int(pixels.shape[1])
-    image.encoding = "mono8" if mono else "rgb8"
-    image.is_bigendian = 0
-    image.step = image.width * (1 if mono else 3)
-    image.data = np.ascontiguousarray(pixels, dtype=np.uint8).tobytes()
+    fill_image(res.image, pixels)         # header left default, as the plugin did
     return res
 
 

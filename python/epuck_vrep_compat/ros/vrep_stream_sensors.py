@@ -19,7 +19,7 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan, PointCloud2, PointFiel
 from std_msgs.msg import Int32
 from vrep_common.msg import ProximitySensorData, VisionSensorData, VisionSensorDepthBuff
 
-from epuck_vrep_compat.ros.camera_face import pinhole_camera_info
+from epuck_vrep_compat.ros.camera_face import fill_image, pinhole_camera_info
 from epuck_vrep_compat.ros.vrep_stream_publishers import (
     PublisherKind, set_header, packed_floats, string_signal)
 from epuck_vrep_compat.scene.transforms import quat_conj, quat_rotate
@@ -46,13 +46,8 @@ def _check_vision(backend, aux):
 
 def _image(step, aux):
     rgb = step.backend.vision_image(aux.int1, mono=False)     # top row first, as ROS
-    msg = Image()
+    msg = fill_image(Image(), rgb)
     set_header(msg.header, step, step.object_frame(aux.int1))
-    msg.height, msg.width = rgb.shape[0], rgb.shape[1]
-    msg.encoding = "rgb8"
-    msg.is_bigendian = 0
-    msg.step = 3 * msg.width
-    msg.data = np.ascontiguousarray(rgb, dtype=np.uint8).tobytes()
     return msg
 
 
