@@ -60,7 +60,7 @@ def _get(name, default, kind, check=None, what=""):
 def read_params(default_world: str) -> SimParams:
     p = SimParams()
     p.world = _get("world", default_world, str, lambda v: v != "", "must name a scene file")
-    p.n = _get("n", 1, int, lambda v: 1 <= v <= 100000, "must be between 1 and 100000")
+    p.n = _get("n", 1, int, lambda v: 0 <= v <= 100000, "must be between 0 and 100000")
     p.profile = _get("profile", "vrep", str, lambda v: v in PROFILES,
                      f"must be one of {sorted(PROFILES)}")
     p.seed = _get("seed", 0, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")

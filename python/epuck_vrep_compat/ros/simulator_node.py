@@ -61,6 +61,10 @@ class SimulatorNode:
         self.tf = TfFace(profile, self.sim)
         self.cameras = CameraFace(profile, self.sim)
         self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0), self._lock)
+        self.cell = None
+        if self.sim.cell is not None:
+            from epuck_vrep_compat.ros.cell_face import CellFace
+            self.cell = CellFace(self.sim, self.vrep, self._lock)
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
         rospy.Service("~unpause", Empty, self._on_unpause)
@@ -120,6 +124,9 @@ class SimulatorNode:
         if batch.wanted(self._tf_pub):
             batch.add(self._tf_pub, self.tf.message(secs, nsecs))
         self.epucks.publish(batch, secs, nsecs)
+        if self.cell is not None:
+            self.cell.before_streams()
+            self.cell.publish(batch, self._tf_pub, secs, nsecs)
         self.vrep.publish(batch, secs, nsecs)
         self.cameras.publish(secs, nsecs)
         self.leds.publish()

@@ -5,6 +5,7 @@ non-zero with a message that says what to fix. Lengths are metres, angles radian
 in 0..1. See ``worlds/arena.yaml`` for a commented example.
 """
 import math
+import os
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
@@ -45,6 +46,7 @@ class Arena:
     wall_thickness_m: float = 0.01
     wall_color: Tuple[float, float, float] = (0.55, 0.55, 0.6)
     floor_color: Tuple[float, float, float] = (0.85, 0.85, 0.8)
+    floor_name: str = "Floor"
 
 
 @dataclass
@@ -52,6 +54,7 @@ class Scene:
     arena: Arena = field(default_factory=Arena)
     obstacles: List[Obstacle] = field(default_factory=list)
     robots: List[RobotStart] = field(default_factory=list)
+    cell: Optional[object] = None            # cell.cell_file.CellSpec: arms, operator, sensors
     source: Optional[str] = None
 
 
@@ -63,15 +66,17 @@ def load_scene(path: str) -> Scene:
         raise SceneError(f"cannot read scene file '{path}': {e.strerror}") from e
     except yaml.YAMLError as e:
         raise SceneError(f"scene file '{path}' is not valid YAML: {e}") from e
-    scene = parse_scene(data if data is not None else {}, where=path)
+    scene = parse_scene(data if data is not None else {}, where=path,
+                        base_dir=os.path.dirname(os.path.abspath(path)))
     scene.source = path
     return scene
 
 
-def parse_scene(data, where: str = "scene") -> Scene:
+def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:
+    """``base_dir``: where relative file names in the scene (URDFs) are looked up."""
     if not isinstance(data, dict):
         raise SceneError(f"{where}: the top level must be a mapping")
-    _only(data, {"arena", "obstacles", "robots"}, where)
+    _only(data, {"arena", "obstacles", "robots", "cell"}, where)
     arena = _arena(data.get("arena", {}), f"{where}: arena")
     obstacles = [_obstacle(o, i, f"{where}: obstacles[{i}]")
                  for i, o in enumerate(_list(data.get("obstacles", []), f"{where}: obstacles"))]
@@ -80,13 +85,18 @@ def parse_scene(data, where: str = "scene") -> Scene:
         raise SceneError(f"{where}: obstacles: names must be unique")
     robots = [_robot(r, f"{where}: robots[{i}]")
               for i, r in enumerate(_list(data.get("robots", []), f"{where}: robots"))]
-    return Scene(arena, obstacles, robots)
+    cell = None
+    if "cell" in data:
+        from epuck_vrep_compat.cell.cell_file import parse_cell
+        cell = parse_cell(data["cell"], f"{where}: cell", base_dir)
+    return Scene(arena, obstacles, robots, cell)
 
 
 def _arena(d, where) -> Arena:
     if not isinstance(d, dict):
         raise SceneError(f"{where} must be a mapping")
-    _only(d, {"size_m", "wall_height_m", "wall_thickness_m", "wall_color", "floor_color"}, where)
+    _only(d, {"size_m", "wall_height_m", "wall_thickness_m", "wall_color", "floor_color",
+              "floor_name"}, where)
     a = Arena()
     if "size_m" in d:
         a.size_m = tuple(_numbers(d["size_m"], 2, f"{where}.size_m", positive=True))
@@ -95,6 +105,9 @@ def _arena(d, where) -> Arena:
                                    f"{where}.wall_thickness_m")
     a.wall_color = _color(d.get("wall_color", a.wall_color), f"{where}.wall_color")
     a.floor_color = _color(d.get("floor_color", a.floor_color), f"{where}.floor_color")
+    a.floor_name = d.get("floor_name", a.floor_name)
+    if not isinstance(a.floor_name, str) or not a.floor_name:
+        raise SceneError(f"{where}.floor_name must be a non-empty string")
     return a
 
 

@@ -65,13 +65,17 @@ class Simulation:
         self.frame = 0
         self._poses = self.swarm.poses
         self._wheel_angles = self.swarm.wheel_angles
+        self.cell = None
+        if scene.cell is not None:
+            from epuck_vrep_compat.cell.cell import Cell     # pybullet only when a cell is used
+            self.cell = Cell(self, scene.cell, self.seed)
 
     # --- construction -----------------------------------------------------------------------
     def _build_arena(self):
         arena = self.scene.arena
         sx, sy = arena.size_m
         h, t = arena.wall_height_m, arena.wall_thickness_m
-        self._add_box("Floor", (sx + 2 * t, sy + 2 * t, FLOOR_THICKNESS_M),
+        self._add_box(arena.floor_name, (sx + 2 * t, sy + 2 * t, FLOOR_THICKNESS_M),
                       (0.0, 0.0, -0.5 * FLOOR_THICKNESS_M), 0.0, arena.floor_color, GROUP_FLOOR)
         walls = (((sx + 2 * t, t, h), (0.0, 0.5 * (sy + t))),
                  ((sx + 2 * t, t, h), (0.0, -0.5 * (sy + t))),
@@ -138,6 +142,9 @@ class Simulation:
     def move_object(self, obj, position, quat):
         """Teleport a robot (its base object: x, y and yaw; robots stay on the ground) or a
         free scene object. Parts of a robot are rigid: ValueError."""
+        if self.cell is not None and self.cell.owns(obj):
+            self.cell.move_object(obj, position, quat)
+            return
         if obj.robot is not None:
             if obj.part != "root":
                 raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; move the robot's "
@@ -154,6 +161,8 @@ class Simulation:
 
     def object_velocity(self, obj):
         """(linear (3), angular (3)) in the world frame; robot parts move with their robot."""
+        if self.cell is not None and self.cell.owns(obj):
+            return self.cell.object_velocity(obj)
         if obj.robot is None:
             return np.zeros(3), np.zeros(3)
         vx, vy, wz = self.swarm.velocities[self._index_by_name[obj.robot]]
@@ -175,6 +184,8 @@ class Simulation:
             self.command.wheel_rad_s[stale] = 0.0
         self.swarm.step(self.step_s, self.command.wheel_rad_s)
         self.frame += 1
+        if self.cell is not None:
+            self.cell.step(self.step_s)
         self._poses = self.swarm.poses
         self._wheel_angles = self.swarm.wheel_angles
 
@@ -188,3 +199,5 @@ class Simulation:
         self.swarm.reseed(self.seed)
         self._poses = self.swarm.poses
         self._wheel_angles = self.swarm.wheel_angles
+        if self.cell is not None:
+            self.cell.reset()

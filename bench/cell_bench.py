@@ -1,0 +1,141 @@
+#!/usr/bin/python3
+"""The full MERLIN cell with every thesis node running and every topic subscribed.
+
+Starts a private master, ``roslaunch epuck_vrep_compat merlin_cell.launch`` (all nodes) and a C++
+process subscribed to every topic (``bench/build/subscribe_all --per-topic``), then measures
+over ``--seconds`` of wall time:
+- the real-time factor, twice: with the simulator holding real time (``rtf:=1``, the default
+  use: the factor must be 1.0) and flat out (``rtf:=0``: how much faster than real time the
+  cell can go, target 2.0);
+- each topic's rate in simulated time (messages / simulated seconds);
+- the simulator's peak resident memory (VmHWM).
+Needs a built, sourced workspace and ``bench/build.sh``. Prints one JSON line per run and a
+table; ``--json FILE`` writes both runs.
+"""
+import argparse
+import json
+import os
+import platform
+import signal
+import socket
+import subprocess
+import time
+
+import rosgraph
+import rospy
+from rosgraph_msgs.msg import Clock
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def peak_rss_mb(pid):
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return float("nan")
+
+
+def simulator_pid(master_uri):
+    """The pid of the /vrep node, from its XML-RPC API."""
+    import xmlrpc.client
+    master = rosgraph.Master("/cell_bench", master_uri=master_uri)
+    uri = master.lookupNode("/vrep")
+    return xmlrpc.client.ServerProxy(uri).getPid("/cell_bench")[2]
+
+
+def run(rtf, seconds):
+    port = free_port()
+    uri = f"http://127.0.0.1:{port}"
+    env = dict(os.environ, ROS_MASTER_URI=uri)
+    os.environ["ROS_MASTER_URI"] = uri
+    master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    launch = sub = None
+    try:
+        time.sleep(1.0)
+        launch = subprocess.Popen(["roslaunch", "epuck_vrep_compat", "merlin_cell.launch",
+                                   f"rtf:={rtf}"], env=env, stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.DEVNULL, start_new_session=True)
+        rospy.init_node("cell_bench", anonymous=True, disable_signals=True)
+        clock = {"t": 0.0}
+        rospy.Subscriber("/clock", Clock, lambda m: clock.__setitem__("t", m.clock.to_sec()),
+                         queue_size=1)
+        deadline = time.monotonic() + 120
+        while clock["t"] < 2.0 and time.monotonic() < deadline:
+            time.sleep(0.1)
+        time.sleep(5.0)                 # every node up and publishing
+        sub = subprocess.Popen([os.path.join(HERE, "build", "subscribe_all"), "--per-topic",
+                                "--regex", r"^/(?!rosout).*"], env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        time.sleep(3.0)                 # subscriptions connected
+        s0, w0 = clock["t"], time.monotonic()
+        time.sleep(seconds)
+        s1, w1 = clock["t"], time.monotonic()
+        sub.send_signal(signal.SIGINT)
+        out, _ = sub.communicate(timeout=60)
+        stats = json.loads(out.decode().strip().splitlines()[-1])
+        sim_s = s1 - s0
+        # the subscriber counted a little longer than the window: scale by its wall time
+        scale = (w1 - w0) / stats["wall_s"] if stats["wall_s"] > 0 else 1.0
+        rates = {t: round(v["messages"] * scale / sim_s, 2)
+                 for t, v in sorted(stats["per_topic"].items())}
+        return {"rtf_requested": rtf, "rtf": round(sim_s / (w1 - w0), 3),
+                "topics": stats["topics"], "messages_per_wall_s": round(stats["rate_hz_total"]),
+                "mbytes_per_wall_s": round(stats["bytes"] / stats["wall_s"] / 1e6, 2),
+                "peak_rss_mb": round(peak_rss_mb(simulator_pid(uri)), 1),
+                "rate_per_sim_s": rates}
+    finally:
+        if sub is not None and sub.poll() is None:
+            sub.kill()
+        if launch is not None and launch.poll() is None:
+            os.killpg(launch.pid, signal.SIGINT)
+            try:
+                launch.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(launch.pid, signal.SIGKILL)
+        rospy.signal_shutdown("benchmark done")
+        master.terminate()
+        master.wait(timeout=30)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seconds", type=float, default=30.0, help="wall time measured per run")
+    ap.add_argument("--json", help="write the results here")
+    args = ap.parse_args()
+    machine = {"cpu": platform.processor() or platform.machine(), "cores": os.cpu_count(),
+               "python": platform.python_version(), "kernel": platform.release()}
+    with open("/proc/cpuinfo") as f:
+        models = [line.split(":", 1)[1].strip() for line in f if line.startswith("model name")]
+    machine["cpu_model"] = models[0] if models else ""
+    results = []
+    for rtf in (1.0, 0.0):
+        r = run(rtf, args.seconds)
+        print(json.dumps(r), flush=True)
+        results.append(r)
+    print(f"machine: {machine}")
+    print(f"{'topic':40s} " + " ".join(f"rtf:={r['rtf_requested']:<6}" for r in results))
+    topics = sorted(set().union(*(r["rate_per_sim_s"] for r in results)))
+    for t in topics:
+        print(f"{t:40s} " + " ".join(f"{r['rate_per_sim_s'].get(t, 0.0):>10.2f}"
+                                     for r in results))
+    for r in results:
+        print(f"rtf:={r['rtf_requested']}: achieved RTF {r['rtf']}, peak RSS "
+              f"{r['peak_rss_mb']} MB, {r['topics']} topics")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"machine": machine, "runs": results}, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,415 @@
+"""The industrial cell inside a :class:`Simulation`: URDF robots in pybullet, the walking
+operator, and the cell's sensors computed by the C++ core after the poses are updated.
+
+One step, one way: scripts and client commands -> pybullet -> link and operator poses into the
+collision world (one batched call) -> proximity rays, laser scan, blob cameras (core) -> the
+arrays the ROS faces and the ``/vrep`` services read.
+"""
+import math
+from typing import Dict, List
+
+import numpy as np
+import pybullet as pb
+
+from epuck_vrep_compat import _core
+from epuck_vrep_compat._core import GROUP_ALL, GROUP_DYNAMIC, GROUP_ROBOT, GROUP_STATIC
+from epuck_vrep_compat.cell.articulated import POSITION, ArticulatedRobot, world_poses
+from epuck_vrep_compat.cell.operator import WalkingOperator
+from epuck_vrep_compat.scene import registry as reg
+from epuck_vrep_compat.scene.transforms import (
+    IDENTITY_QUAT, compose, quat_from_axis_angle, quat_from_rpy, quat_mul)
+from epuck_vrep_compat.sim.components import CameraSpec, VisionSensor
+from epuck_vrep_compat.vrep import constants as vc
+
+# Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
+LASER_SEED_OFFSET = 0x1A5E
+KINECT_SEED_OFFSET = 0x71C7
+PROX_SEED_OFFSET = 0x9B0C
+
+# V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up.
+_BODY_TO_VISION = quat_mul(quat_from_axis_angle((0, 0, 1), -math.pi / 2),
+                           quat_from_axis_angle((0, 1, 0), math.pi / 2))
+
+
+def quat_from_matrix(m):
+    """Unit quaternion (x, y, z, w) of a 3x3 rotation matrix (re-orthonormalised first)."""
+    u, _, vt = np.linalg.svd(np.asarray(m, dtype=float))
+    r = u @ vt
+    if np.linalg.det(r) < 0:
+        u[:, -1] *= -1.0
+        r = u @ vt
+    t = np.trace(r)
+    if t > 0:
+        s = 2.0 * math.sqrt(t + 1.0)
+        q = ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, 0.25 * s)
+    else:
+        i = int(np.argmax(np.diag(r)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * math.sqrt(1.0 + r[i, i] - r[j, j] - r[k, k])
+        q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
+        q[i] = 0.25 * s
+        q[j] = (r[j, i] + r[i, j]) / s
+        q[k] = (r[k, i] + r[i, k]) / s
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+def pose_from_vrep_matrix(values):
+    """V-REP's 12-value object matrix (rows of [R | t]) to (position, quaternion)."""
+    m = np.asarray(values, dtype=float).reshape(3, 4)
+    return m[:, 3].copy(), quat_from_matrix(m[:, :3])
+
+
+class RayProximity:
+    """A ray-type proximity sensor (V-REP: detection along its z axis), read from the cell's
+    last step."""
+
+    subtype = vc.PROXSENSOR_RAY
+
+    def __init__(self, cell, index: int):
+        self._cell = cell
+        self._index = index
+
+    def read(self):
+        """(detection state 0/1, point in the sensor frame (3), object handle or -1, normal)."""
+        c = self._cell
+        i = self._index
+        if not c.prox_state[i]:
+            return 0, np.zeros(3), -1, np.zeros(3)
+        return 1, c.prox_point[i].copy(), int(c.prox_handle[i]), c.prox_normal[i].copy()
+
+
+class CellVision(VisionSensor):
+    """A vision sensor of the cell: optional render mask (V-REP's "entity to render"), optional
+    depth noise (Kinect), and the blob filter's packet (ceiling cameras)."""
+
+    def __init__(self, sim, handle, spec, mask=GROUP_ALL, depth_noise=None, blob=False):
+        super().__init__(sim, handle, spec)
+        self.mask = mask
+        self.depth_noise = depth_noise
+        self.blob = blob
+
+    def render(self):
+        position, quat = self.camera_pose()
+        s = self.spec
+        rgb, depth = self._sim.world.render(position, quat, s.width, s.height,
+                                            s.vertical_fov_rad, s.near_m, s.far_m, -1,
+                                            self.mask)
+        if self.depth_noise is not None:
+            depth = self.depth_noise.apply(depth, s.near_m, s.far_m)
+        return rgb, depth
+
+    def blob_packet(self, rgb=None):
+        """V-REP's blob detection filter output: [count, 6, size, orientation, x, y, w, h,...]
+        with x, y relative to the image (y from the bottom)."""
+        if rgb is None:
+            rgb, _ = self.render()
+        mask = (rgb.max(axis=2) > 0).astype(np.uint8)
+        return np.asarray(_core.detect_blobs(mask), dtype=float)
+
+
+class Cell:
+    def __init__(self, sim, spec, seed: int):
+        self.sim = sim
+        self.spec = spec
+        self.seed = int(seed)
+        registry, world = sim.registry, sim.world
+        self.client = pb.connect(pb.DIRECT)
+        pb.setGravity(0.0, 0.0, -9.81, physicsClientId=self.client)
+        pb.setTimeStep(sim.step_s / spec.substeps, physicsClientId=self.client)
+        self.arms: List[ArticulatedRobot] = [ArticulatedRobot(self.client, a, registry)
+                                             for a in spec.arms]
+        self.arm_by_name: Dict[str, ArticulatedRobot] = {a.spec.name: a for a in self.arms}
+        self._script_time = 0.0
+        # collision primitives of every link: handle, row into the stacked link poses, offset
+        handles, rows, offset_p, offset_q = [], [], [], []
+        row0 = 0
+        for arm in self.arms:
+            for k, (row, part) in enumerate(arm.collision_parts()):
+                link_obj = arm.objects[arm.link_names[row]]
+                handle = self._collision_handle(registry, link_obj, k, arm.spec.name)
+                self._add_primitive(world, handle, part, arm.spec.color, GROUP_ROBOT)
+                handles.append(handle)
+                rows.append(row0 + row)
+                offset_p.append(part.position)
+                offset_q.append(part.quat)
+            row0 += len(arm.link_names)
+        self.operator = None
+        if spec.operator is not None:
+            self.operator = WalkingOperator(spec.operator)
+            o = spec.operator
+            base = registry.add(o.name, reg.SHAPE, reg.WORLD, pose_source=self.operator.pose,
+                                properties=dict(shape="cylinder", color=o.color))
+            world.add_cylinder(base.handle, o.body_radius_m, o.body_height_m, np.zeros(3),
+                               IDENTITY_QUAT, o.color, GROUP_DYNAMIC)
+            head = registry.add(o.name + "_head", reg.SHAPE, base.handle,
+                                (0.0, 0.0, self.operator.head_centre_z),
+                                properties=dict(shape="sphere", color=o.color))
+            world.add_sphere(head.handle, o.head_radius_m, np.zeros(3), IDENTITY_QUAT, o.color,
+                             GROUP_DYNAMIC)
+            self.operator_handles = (base.handle, head.handle)
+        self._handles = np.asarray(handles, dtype=np.int32)
+        self._rows = np.asarray(rows, dtype=np.intp)
+        self._offset_p = np.asarray(offset_p, dtype=float).reshape(-1, 3)
+        self._offset_q = np.asarray(offset_q, dtype=float).reshape(-1, 4)
+        self._build_proximity(registry)
+        self._build_laser(registry, world)
+        self._build_cameras(registry)
+        self._build_kinect(registry, world)
+        self.scan_due = False
+        self.blobs: Dict[str, np.ndarray] = {}
+        self._sync_world()
+        self._sense()
+
+    # --- construction -------------------------------------------------------------------------
+    @staticmethod
+    def _collision_handle(registry, link_obj, k, robot):
+        if k == 0 and "collision" not in link_obj.properties:
+            link_obj.properties["collision"] = True
+            return link_obj.handle
+        name = f"{link_obj.name}_collision{k}"
+        while registry.handle_of(name) >= 0:
+            k += 1
+            name = f"{link_obj.name}_collision{k}"
+        return registry.add(name, reg.SHAPE, link_obj.handle, robot=robot, part=name).handle
+
+    @staticmethod
+    def _add_primitive(world, handle, part, color, group):
+        if part.shape == "box":
+            world.add_box(handle, 0.5 * np.asarray(part.size), np.zeros(3), IDENTITY_QUAT,
+                          color, group)
+        elif part.shape == "cylinder":
+            world.add_cylinder(handle, part.size[0], part.size[1], np.zeros(3), IDENTITY_QUAT,
+                               color, group)
+        else:
+            world.add_sphere(handle, part.size[0], np.zeros(3), IDENTITY_QUAT, color, group)
+
+    def _link_row(self, link_name):
+        row0 = 0
+        for arm in self.arms:
+            if link_name in arm.link_names:
+                return arm, row0 + arm.link_names.index(link_name)
+            row0 += len(arm.link_names)
+        raise ValueError(f"proximity sensor parent '{link_name}' is not a link of a cell robot")
+
+    def _build_proximity(self, registry):
+        specs = self.spec.proximity
+        n = len(specs)
+        self.prox_rows = np.zeros(n, dtype=np.intp)
+        self.prox_offset_p = np.zeros((n, 3))
+        self.prox_offset_q = np.tile(IDENTITY_QUAT, (n, 1))
+        self.prox_handles = []
+        for i, p in enumerate(specs):
+            arm, row = self._link_row(p.parent)
+            self.prox_rows[i] = row
+            self.prox_offset_p[i] = p.position_m
+            self.prox_offset_q[i] = quat_from_rpy(*p.rpy_rad)
+            obj = registry.add(p.name, reg.PROXIMITY_SENSOR, arm.objects[p.parent].handle,
+                               p.position_m, self.prox_offset_q[i], robot=arm.spec.name,
+                               part=p.name)
+            obj.properties["proximity"] = RayProximity(self, i)
+            obj.properties["range_m"] = (p.min_range_m, p.max_range_m)
+            self.prox_handles.append(obj.handle)
+        self.prox_sensors = _core.RayProximityArray(
+            np.array([p.min_range_m for p in specs]), np.array([p.max_range_m for p in specs]))
+        self.prox_state = np.zeros(n, dtype=np.int32)
+        self.prox_distance = np.full(n, np.inf)
+        self.prox_point = np.zeros((n, 3))
+        self.prox_handle = np.full(n, -1, dtype=np.int32)
+        self.prox_normal = np.zeros((n, 3))
+
+    def _build_laser(self, registry, world):
+        self.laser = self.spec.laser
+        self.laser_ranges = None
+        if self.laser is None:
+            return
+        s = self.laser
+        obj = registry.add(s.name, reg.SHAPE, reg.WORLD, s.position_m,
+                           quat_from_axis_angle((0, 0, 1), s.yaw_rad),
+                           properties=dict(shape="box", color=(0.1, 0.1, 0.1)))
+        # the scanner's housing (50 x 50 x 70 mm) around the scan origin; the scan ignores it
+        world.add_box(obj.handle, np.array([0.025, 0.025, 0.035]), np.asarray(s.position_m),
+                      obj.local_quat, (0.1, 0.1, 0.1), GROUP_STATIC)
+        self.laser_handle = obj.handle
+        self.scanner = _core.LaserScanner(s.angle_min_rad, s.angle_increment_rad, s.count,
+                                          s.range_min_m, s.range_max_m, s.noise_sigma_m,
+                                          s.noise_relative, self.seed + LASER_SEED_OFFSET)
+        self._scan_every = max(1, int(round(1.0 / (s.rate_hz * self.sim.step_s))))
+
+    def _build_cameras(self, registry):
+        self.cameras: List[CellVision] = []
+        self.camera_specs = self.spec.cameras
+        for c in self.spec.cameras:
+            position, quat = pose_from_vrep_matrix(c.matrix)
+            obj = registry.add(c.name, reg.VISION_SENSOR, reg.WORLD, position, quat)
+            w, h = c.resolution
+            # V-REP's perspective angle spans the larger image side
+            half = math.tan(0.5 * c.angle_rad) * (h / max(w, h))
+            spec = CameraSpec(width=w, height=h, rate_hz=1.0 / self.sim.step_s,
+                              vertical_fov_rad=2.0 * math.atan(half), near_m=c.near_m,
+                              far_m=c.far_m)
+            mask = GROUP_ALL
+            if c.render is not None:
+                if self.operator is None or c.render != self.spec.operator.name:
+                    raise ValueError(f"camera '{c.name}': render entity '{c.render}' must be "
+                                     "the operator")
+                mask = GROUP_DYNAMIC
+            vision = CellVision(self.sim, obj.handle, spec, mask=mask,
+                                blob=bool(c.blob_topics))
+            obj.properties["vision"] = vision
+            self.cameras.append(vision)
+
+    def _build_kinect(self, registry, world):
+        k = self.spec.kinect
+        self.kinect_depth = self.kinect_rgb = None
+        if k is None:
+            return
+        base = registry.add(k.name, reg.SHAPE, reg.WORLD, k.position_m, quat_from_rpy(*k.rpy_rad),
+                            properties=dict(shape="box", color=(0.15, 0.15, 0.15)))
+        w, h = k.resolution
+        vfov = 2.0 * math.atan(math.tan(0.5 * k.horizontal_fov_rad) * h / w)
+        spec = CameraSpec(width=w, height=h, rate_hz=30.0, vertical_fov_rad=vfov, near_m=k.near_m,
+                          far_m=k.far_m)
+        self.depth_noise = _core.DepthNoise(self.seed + KINECT_SEED_OFFSET)
+        for suffix, offset_y, noise in (("_depth", -0.0125, self.depth_noise),
+                                        ("_rgb", 0.0125, None)):
+            obj = registry.add(k.name + suffix, reg.VISION_SENSOR, base.handle,
+                               (0.0, offset_y, 0.0), _BODY_TO_VISION)
+            vision = CellVision(self.sim, obj.handle, spec, depth_noise=noise)
+            obj.properties["vision"] = vision
+            if noise is None:
+                self.kinect_rgb = vision
+            else:
+                self.kinect_depth = vision
+
+    # --- stepping -----------------------------------------------------------------------------
+    def step(self, dt: float):
+        self._script_time += dt
+        for arm in self.arms:
+            if not arm.external:
+                self._script(arm, self._script_time)
+            arm.move_base(dt)
+            arm.apply_commands()
+        for _ in range(self.spec.substeps):
+            pb.stepSimulation(physicsClientId=self.client)
+        for arm in self.arms:
+            arm.read_state()
+        if self.operator is not None:
+            self.operator.advance(dt)
+        self._sync_world()
+        self._sense()
+
+    def _script(self, arm, t):
+        """Default motions, as the thesis's child scripts: each joint swings sinusoidally about
+        the middle of its range (phase-shifted per joint); a mobile base drives a square."""
+        s = arm.spec
+        if s.script == "none":
+            return
+        w = 2.0 * math.pi / s.script_period_s
+        for k, joint in enumerate(arm.joints):
+            u = joint.urdf
+            if joint.cyclic or u.kind == "prismatic":
+                centre, half = 0.5 * (u.lower + u.upper), 0.5 * (u.upper - u.lower)
+                if joint.cyclic:
+                    continue
+            else:
+                centre = min(max(0.0, u.lower), u.upper)
+                half = min(centre - u.lower, u.upper - centre)
+                if half < 0.1 * (u.upper - u.lower):      # zero at a stop (youBot): mid-range
+                    centre, half = 0.5 * (u.lower + u.upper), 0.5 * (u.upper - u.lower)
+            arm.command(k, POSITION, centre + s.script_amplitude * half *
+                        math.sin(w * t + 0.7 * k), external=False)
+        if s.mobile and s.script == "square":
+            side = int(t / (0.25 * s.script_period_s)) % 4
+            speed = 0.15
+            arm.set_twist(*((speed, 0, 0), (0, speed, 0), (-speed, 0, 0), (0, -speed, 0))[side],
+                          external=False)
+
+    def _link_poses(self):
+        return (np.concatenate([a.link_position for a in self.arms]) if self.arms
+                else np.zeros((0, 3)),
+                np.concatenate([a.link_quat for a in self.arms]) if self.arms
+                else np.zeros((0, 4)))
+
+    def _sync_world(self):
+        positions, quats = self._link_poses()
+        self._positions, self._quats = positions, quats
+        handles, p, q = [self._handles], [], []
+        if len(self._handles):
+            wp, wq = world_poses(positions, quats, self._rows, self._offset_p, self._offset_q)
+            p.append(wp)
+            q.append(wq)
+        if self.operator is not None:
+            base_p, base_q = self.operator.pose()
+            body_p = base_p + (0.0, 0.0, self.operator.body_centre_z)
+            head_p = base_p + (0.0, 0.0, self.operator.head_centre_z)
+            handles.append(np.asarray(self.operator_handles, dtype=np.int32))
+            p.append(np.stack((body_p, head_p)))
+            q.append(np.stack((base_q, base_q)))
+        if p:
+            self.sim.world.set_poses(np.concatenate(handles), np.concatenate(p),
+                                     np.concatenate(q))
+
+    def _sense(self):
+        if len(self.prox_rows):
+            sp, sq = world_poses(self._positions, self._quats, self.prox_rows,
+                                 self.prox_offset_p, self.prox_offset_q)
+            (self.prox_state, self.prox_distance, self.prox_point, self.prox_handle,
+             self.prox_normal) = self.prox_sensors.read(self.sim.world, sp, sq, -1, GROUP_ALL)
+        if self.laser is not None and self.sim.frame % self._scan_every == 0:
+            position, quat = self.sim.registry.world_pose(self.laser_handle)
+            self.laser_ranges = self.scanner.scan(self.sim.world, position, quat,
+                                                  self.laser_handle, GROUP_ALL)
+            self.scan_due = True
+        for camera, c in zip(self.cameras, self.camera_specs):
+            if c.blob_topics:
+                self.blobs[c.name] = camera.blob_packet()
+
+    # --- objects ------------------------------------------------------------------------------
+    def owns(self, obj) -> bool:
+        return obj.robot in self.arm_by_name or (
+            self.operator is not None and obj.handle in self.operator_handles)
+
+    def move_object(self, obj, position, quat):
+        """A robot's base moves (x, y, yaw; mobile or not); its links follow their joints; the
+        operator follows its path."""
+        if self.operator is not None and obj.handle in self.operator_handles:
+            raise ValueError(f"'{obj.name}' walks its path; it cannot be placed")
+        arm = self.arm_by_name[obj.robot]
+        if obj.part != "base":
+            raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; move the robot's "
+                             "base object, or its joints")
+        from epuck_vrep_compat.scene.transforms import yaw_of
+        arm.base_xy_yaw[:] = (float(position[0]), float(position[1]), float(yaw_of(quat)))
+        arm.base_z = float(position[2])
+        arm.place_base()
+        arm.read_state()
+        self._sync_world()
+        self._sense()
+
+    def object_velocity(self, obj):
+        arm = self.arm_by_name.get(obj.robot)
+        if arm is None or obj.part != "base" or not arm.spec.mobile:
+            return np.zeros(3), np.zeros(3)
+        vx, vy, wz = arm.twist
+        yaw = arm.base_xy_yaw[2]
+        return (np.array([vx * math.cos(yaw) - vy * math.sin(yaw),
+                          vx * math.sin(yaw) + vy * math.cos(yaw), 0.0]),
+                np.array([0.0, 0.0, wz]))
+
+    def reset(self):
+        for arm in self.arms:
+            arm.reset()
+        if self.operator is not None:
+            self.operator.reset()
+        self._script_time = 0.0
+        if self.laser is not None:
+            self.scanner.reseed(self.seed + LASER_SEED_OFFSET)
+        if self.spec.kinect is not None:
+            self.depth_noise.reseed(self.seed + KINECT_SEED_OFFSET)
+        self._sync_world()
+        self._sense()
+
+    def close(self):
+        if pb.isConnected(self.client):
+            pb.disconnect(self.client)

@@ -1,0 +1,280 @@
+"""The ``cell:`` section of a scene file: articulated robots from URDF, a walking operator, and
+the cell's sensors (ray proximity sensors on robot links, a planar laser scanner, ceiling
+cameras with blob detection, a Kinect).
+
+Same rules as the rest of the scene file: lengths in metres, angles in radians, colours RGB in
+0..1, and a malformed entry raises :class:`SceneError` naming its key. See
+``worlds/merlin_cell.yaml`` for a commented example.
+"""
+import math
+import os
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
+
+from epuck_vrep_compat.scene.scene_file import (
+    SceneError, _color, _list, _number, _numbers, _only, _positive)
+
+SCRIPTS = ("none", "sine", "square")
+
+
+@dataclass
+class ArmSpec:
+    name: str                                  # base object name = the URDF's root link
+    urdf: str                                  # absolute path
+    position_m: Tuple[float, float, float]
+    yaw_rad: float = 0.0
+    mobile: bool = False                       # base driven by (vx, vy, wz) commands
+    script: str = "sine"                       # default motion: none | sine | square (mobile)
+    script_period_s: float = 20.0
+    script_amplitude: float = 0.5              # fraction of each joint's half range
+    color: Tuple[float, float, float] = (0.9, 0.45, 0.1)
+
+
+@dataclass
+class OperatorSpec:
+    name: str = "Bill"
+    waypoints_m: List[Tuple[float, float]] = field(default_factory=list)
+    speed_m_s: float = 1.2
+    body_radius_m: float = 0.2
+    body_height_m: float = 1.3
+    head_radius_m: float = 0.11
+    color: Tuple[float, float, float] = (0.1, 0.8, 0.2)
+
+
+@dataclass
+class ProxSpec:
+    name: str
+    parent: str                                # link name
+    position_m: Tuple[float, float, float]
+    rpy_rad: Tuple[float, float, float]        # sensor z = detection axis (V-REP)
+    min_range_m: float = 0.02
+    max_range_m: float = 0.08
+
+
+@dataclass
+class LaserSpec:
+    name: str
+    position_m: Tuple[float, float, float]
+    yaw_rad: float = 0.0
+    topic: str = "front_scan"
+    count: int = 682
+    angle_min_rad: float = -2.0862138             # (44 - 384) steps of 2*pi/1024
+    angle_increment_rad: float = 2.0 * math.pi / 1024.0
+    range_min_m: float = 0.02
+    range_max_m: float = 5.6
+    noise_sigma_m: float = 0.01
+    noise_relative: float = 0.01
+    rate_hz: float = 10.0
+
+
+@dataclass
+class CameraSpecEntry:
+    name: str
+    matrix: Tuple[float, ...]                  # V-REP's 12 values relative to the floor
+    resolution: Tuple[int, int] = (128, 128)
+    angle_rad: float = math.radians(80.0)      # perspective angle (larger image side)
+    near_m: float = 0.01
+    far_m: float = 3.0
+    render: Optional[str] = None               # entity to render (None = everything)
+    blob_topics: Tuple[str, str] = ()          # float-signal streams of blob x, y
+
+
+@dataclass
+class KinectSpec:
+    name: str = "kinect"
+    position_m: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    rpy_rad: Tuple[float, float, float] = (0.0, 0.0, 0.0)   # x forward, z up (like a robot)
+    resolution: Tuple[int, int] = (640, 480)
+    horizontal_fov_rad: float = math.radians(57.0)
+    near_m: float = 0.5
+    far_m: float = 5.0
+
+
+@dataclass
+class CellSpec:
+    arms: List[ArmSpec] = field(default_factory=list)
+    operator: Optional[OperatorSpec] = None
+    proximity: List[ProxSpec] = field(default_factory=list)
+    laser: Optional[LaserSpec] = None
+    cameras: List[CameraSpecEntry] = field(default_factory=list)
+    kinect: Optional[KinectSpec] = None
+    substeps: int = 10
+
+
+def parse_cell(d, where: str, base_dir: str) -> CellSpec:
+    if not isinstance(d, dict):
+        raise SceneError(f"{where} must be a mapping")
+    _only(d, {"robots", "operator", "proximity_sensors", "laser", "cameras", "kinect",
+              "substeps"}, where)
+    cell = CellSpec()
+    cell.arms = [_arm(a, f"{where}.robots[{i}]", base_dir)
+                 for i, a in enumerate(_list(d.get("robots", []), f"{where}.robots"))]
+    if "operator" in d:
+        cell.operator = _operator(d["operator"], f"{where}.operator")
+    cell.proximity = [_prox(p, f"{where}.proximity_sensors[{i}]") for i, p in
+                      enumerate(_list(d.get("proximity_sensors", []),
+                                      f"{where}.proximity_sensors"))]
+    if "laser" in d:
+        cell.laser = _laser(d["laser"], f"{where}.laser")
+    cell.cameras = [_camera(c, f"{where}.cameras[{i}]")
+                    for i, c in enumerate(_list(d.get("cameras", []), f"{where}.cameras"))]
+    if "kinect" in d:
+        cell.kinect = _kinect(d["kinect"], f"{where}.kinect")
+    cell.substeps = _count(d.get("substeps", cell.substeps), f"{where}.substeps")
+    return cell
+
+
+def _mapping(d, keys, where):
+    if not isinstance(d, dict):
+        raise SceneError(f"{where} must be a mapping")
+    _only(d, keys, where)
+
+
+def _required(d, key, where):
+    if key not in d:
+        raise SceneError(f"{where}.{key} is required")
+    return d[key]
+
+
+def _count(v, where) -> int:
+    if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+        raise SceneError(f"{where} must be a positive integer, got {v!r}")
+    return v
+
+
+def _name(d, where) -> str:
+    v = _required(d, "name", where)
+    if not isinstance(v, str) or not v:
+        raise SceneError(f"{where}.name must be a non-empty string, got {v!r}")
+    return v
+
+
+def _arm(d, where, base_dir) -> ArmSpec:
+    _mapping(d, {"name", "urdf", "position_m", "yaw_rad", "mobile", "script", "script_period_s",
+                 "script_amplitude", "color"}, where)
+    urdf = _required(d, "urdf", where)
+    if not isinstance(urdf, str):
+        raise SceneError(f"{where}.urdf must be a file name, got {urdf!r}")
+    path = urdf if os.path.isabs(urdf) else os.path.normpath(os.path.join(base_dir, urdf))
+    if not os.path.isfile(path):
+        raise SceneError(f"{where}.urdf: no such file '{path}'")
+    a = ArmSpec(_name(d, where), path,
+                tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m")))
+    a.yaw_rad = _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
+    mobile = d.get("mobile", False)
+    if not isinstance(mobile, bool):
+        raise SceneError(f"{where}.mobile must be true or false, got {mobile!r}")
+    a.mobile = mobile
+    a.script = d.get("script", "square" if mobile else "sine")
+    if a.script not in SCRIPTS:
+        raise SceneError(f"{where}.script must be one of {list(SCRIPTS)}, got {a.script!r}")
+    a.script_period_s = _positive(d.get("script_period_s", a.script_period_s),
+                                  f"{where}.script_period_s")
+    a.script_amplitude = _number(d.get("script_amplitude", a.script_amplitude),
+                                 f"{where}.script_amplitude")
+    if not 0.0 <= a.script_amplitude <= 1.0:
+        raise SceneError(f"{where}.script_amplitude must be in 0..1, got {a.script_amplitude}")
+    a.color = _color(d.get("color", a.color), f"{where}.color")
+    return a
+
+
+def _operator(d, where) -> OperatorSpec:
+    _mapping(d, {"name", "waypoints_m", "speed_m_s", "body_radius_m", "body_height_m",
+                 "head_radius_m", "color"}, where)
+    o = OperatorSpec(name=_name(d, where))
+    points = _list(_required(d, "waypoints_m", where), f"{where}.waypoints_m")
+    o.waypoints_m = [tuple(_numbers(p, 2, f"{where}.waypoints_m[{i}]"))
+                     for i, p in enumerate(points)]
+    if len(o.waypoints_m) < 2:
+        raise SceneError(f"{where}.waypoints_m needs at least 2 points")
+    for key in ("speed_m_s", "body_radius_m", "body_height_m", "head_radius_m"):
+        setattr(o, key, _positive(d.get(key, getattr(o, key)), f"{where}.{key}"))
+    o.color = _color(d.get("color", o.color), f"{where}.color")
+    return o
+
+
+def _prox(d, where) -> ProxSpec:
+    _mapping(d, {"name", "parent", "position_m", "rpy_rad", "min_range_m", "max_range_m"},
+             where)
+    p = ProxSpec(_name(d, where), str(_required(d, "parent", where)),
+                 tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m")),
+                 tuple(_numbers(d.get("rpy_rad", [0, 0, 0]), 3, f"{where}.rpy_rad")))
+    p.min_range_m = _positive(d.get("min_range_m", p.min_range_m), f"{where}.min_range_m")
+    p.max_range_m = _positive(d.get("max_range_m", p.max_range_m), f"{where}.max_range_m")
+    if p.max_range_m <= p.min_range_m:
+        raise SceneError(f"{where}: max_range_m must exceed min_range_m")
+    return p
+
+
+def _laser(d, where) -> LaserSpec:
+    _mapping(d, {"name", "position_m", "yaw_rad", "topic", "count", "angle_min_rad",
+                 "angle_increment_rad", "range_min_m", "range_max_m", "noise_sigma_m",
+                 "noise_relative", "rate_hz"}, where)
+    s = LaserSpec(_name(d, where),
+                  tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m")))
+    s.yaw_rad = _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
+    s.topic = str(d.get("topic", s.topic))
+    if not s.topic:
+        raise SceneError(f"{where}.topic must not be empty")
+    s.count = _count(d.get("count", s.count), f"{where}.count")
+    s.angle_min_rad = _number(d.get("angle_min_rad", s.angle_min_rad), f"{where}.angle_min_rad")
+    for key in ("angle_increment_rad", "range_min_m", "range_max_m", "rate_hz"):
+        setattr(s, key, _positive(d.get(key, getattr(s, key)), f"{where}.{key}"))
+    for key in ("noise_sigma_m", "noise_relative"):
+        v = _number(d.get(key, getattr(s, key)), f"{where}.{key}")
+        if v < 0.0:
+            raise SceneError(f"{where}.{key} must not be negative, got {v}")
+        setattr(s, key, v)
+    if s.range_max_m <= s.range_min_m:
+        raise SceneError(f"{where}: range_max_m must exceed range_min_m")
+    return s
+
+
+def _resolution(v, where):
+    if (not isinstance(v, (list, tuple)) or len(v) != 2
+            or any(isinstance(x, bool) or not isinstance(x, int) or x < 1 or x > 4096
+                   for x in v)):
+        raise SceneError(f"{where} must be [width, height] in pixels (1..4096), got {v!r}")
+    return tuple(v)
+
+
+def _clipping(obj, d, where):
+    obj.near_m = _positive(d.get("near_m", obj.near_m), f"{where}.near_m")
+    obj.far_m = _positive(d.get("far_m", obj.far_m), f"{where}.far_m")
+    if obj.far_m <= obj.near_m:
+        raise SceneError(f"{where}: far_m must exceed near_m")
+
+
+def _camera(d, where) -> CameraSpecEntry:
+    _mapping(d, {"name", "matrix", "resolution", "angle_deg", "near_m", "far_m", "render",
+                 "blob_topics"}, where)
+    c = CameraSpecEntry(_name(d, where),
+                        tuple(_numbers(_required(d, "matrix", where), 12, f"{where}.matrix")))
+    c.resolution = _resolution(d.get("resolution", list(c.resolution)), f"{where}.resolution")
+    if "angle_deg" in d:
+        angle = _positive(d["angle_deg"], f"{where}.angle_deg")
+        if angle >= 180.0:
+            raise SceneError(f"{where}.angle_deg must be below 180, got {angle}")
+        c.angle_rad = math.radians(angle)
+    _clipping(c, d, where)
+    c.render = d.get("render")
+    topics = d.get("blob_topics", [])
+    if topics and (not isinstance(topics, list) or len(topics) != 2
+                   or not all(isinstance(t, str) and t for t in topics)):
+        raise SceneError(f"{where}.blob_topics must be two topic names [x, y], got {topics!r}")
+    c.blob_topics = tuple(topics)
+    return c
+
+
+def _kinect(d, where) -> KinectSpec:
+    _mapping(d, {"name", "position_m", "rpy_rad", "resolution", "horizontal_fov_deg", "near_m",
+                 "far_m"}, where)
+    k = KinectSpec(name=str(d.get("name", "kinect")))
+    k.position_m = tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m"))
+    k.rpy_rad = tuple(_numbers(d.get("rpy_rad", [0, 0, 0]), 3, f"{where}.rpy_rad"))
+    k.resolution = _resolution(d.get("resolution", list(k.resolution)), f"{where}.resolution")
+    if "horizontal_fov_deg" in d:
+        k.horizontal_fov_rad = math.radians(_positive(d["horizontal_fov_deg"],
+                                                      f"{where}.horizontal_fov_deg"))
+    _clipping(k, d, where)
+    return k

@@ -1,0 +1,255 @@
+#!/usr/bin/python3
+"""The MERLIN cell with the thesis's nodes, against a real master: topics and types, handles,
+poses against the URDF kinematics, a proximity sensor, the laser, the blob cameras, the Kinect.
+Everything is read the way the thesis's nodes read it: /vrep services and their topics."""
+import math
+import os
+import time
+import unittest
+
+import numpy as np
+import rospkg
+import rospy
+import rostest
+import vrep_common.srv
+from sensor_msgs.msg import Image, LaserScan
+from std_msgs.msg import Float32
+
+from epuck_vrep_compat.cell.kinematics import load_urdf_chain
+from epuck_vrep_compat.msg import (
+    ComauMsg, IrbMsg, YouBotMsg, vett_JointHandles, vett_posOrAssGiunto, vett_posOrRelGiunto,
+    vett_proxData)
+from epuck_vrep_compat.scene.transforms import quat_from_yaw, quat_rotate
+from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_sim_time
+
+WORLD, PARENT = -1, -11
+IRB_BASE = (0.4, 1.9, 0.0, -math.pi / 2)           # worlds/merlin_cell.yaml
+IRB_ANGLES = [0.3, -0.4, 0.5, 0.6, -0.7, 0.8]
+LASER = "Hokuyo_URG_04LX_UG01_ROS"
+OPERATOR_RADIUS_M = 0.2
+TABLE_TOP_Z = 0.75
+
+
+def call(name, **fields):
+    service = getattr(vrep_common.srv, name)
+    proxy = rospy.ServiceProxy("/vrep/" + name, service)
+    return proxy.call(service._request_class(**fields))
+
+
+def handle(name):
+    return call("simRosGetObjectHandle", objectName=name).handle
+
+
+def pose(h, relative=WORLD):
+    res = call("simRosGetObjectPose", handle=h, relativeToObjectHandle=relative)
+    p, o = res.pose.pose.position, res.pose.pose.orientation
+    return np.array([p.x, p.y, p.z]), np.array([o.x, o.y, o.z, o.w])
+
+
+def euler_matrix(a, b, g):
+    """V-REP's Euler angles: R = Rx(a) Ry(b) Rz(g)."""
+    ca, sa, cb, sb, cg, sg = (math.cos(a), math.sin(a), math.cos(b), math.sin(b),
+                              math.cos(g), math.sin(g))
+    rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
+    ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+    rz = np.array([[cg, -sg, 0], [sg, cg, 0], [0, 0, 1]])
+    return rx @ ry @ rz
+
+
+class MerlinCell(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_merlin_cell")
+        cls.guard = RosoutGuard()
+        rospy.wait_for_service("/vrep/simRosGetObjectPose", timeout=60)
+        wait_sim_time(1.0)
+
+    def test_01_every_thesis_topic_has_its_type_and_rate(self):
+        topics = {
+            "/ComauHandles": ComauMsg, "/IrbHandles": IrbMsg, "/YouBotHandles": YouBotMsg,
+            "/Comau_JointHandles": vett_JointHandles, "/Irb_JointHandles": vett_JointHandles,
+            "/YouBot_JointHandles": vett_JointHandles,
+            "/Comau_PosOrAss": vett_posOrAssGiunto, "/Comau_PosOrRel": vett_posOrRelGiunto,
+            "/Irb_PosOrAss": vett_posOrAssGiunto, "/Irb_PosOrRel": vett_posOrRelGiunto,
+            "/YouBot_PosOrAss": vett_posOrAssGiunto, "/YouBot_PosOrRel": vett_posOrRelGiunto,
+            "/prox_data": vett_proxData, "/Camera_Image_0": Image, "/Camera_Image_1": Image,
+            "/vrep/front_scan": LaserScan,
+        }
+        collectors = {t: Collector(t, c) for t, c in topics.items()}
+        for c in collectors.values():
+            c.wait(1, timeout_s=60)
+        start = sim_time_now()
+        counts = {t: len(c.messages) for t, c in collectors.items()}
+        wait_sim_time(4.0)
+        elapsed = sim_time_now() - start
+        published = dict(rospy.get_published_topics())
+        for topic, msg_class in topics.items():
+            self.assertEqual(published.get(topic), msg_class._type, topic)
+        rates = {t: (len(c.messages) - counts[t]) / elapsed for t, c in collectors.items()}
+        self.assertAlmostEqual(rates["/vrep/front_scan"], 10.0, delta=1.0)
+        for topic in ("/Irb_PosOrAss", "/Comau_PosOrRel", "/prox_data", "/Camera_Image_0"):
+            # the nodes loop at 20 Hz of simulation time; service round trips may cost a cycle
+            self.assertGreater(rates[topic], 10.0, topic)
+            self.assertLess(rates[topic], 22.0, topic)
+
+    def test_02_hub_handles_are_the_objects(self):
+        irb = rospy.wait_for_message("/IrbHandles", IrbMsg, timeout=30)
+        comau = rospy.wait_for_message("/ComauHandles", ComauMsg, timeout=30)
+        youbot = rospy.wait_for_message("/YouBotHandles", YouBotMsg, timeout=30)
+        self.assertEqual(irb.hIrbRobot, handle("IRB140"))
+        self.assertEqual(list(irb.hIrbJoint), [handle(f"IRB140_joint{k}") for k in range(1, 7)])
+        self.assertEqual(comau.hComauRobot, handle("SIX"))
+        self.assertEqual(list(comau.hComauJoint), [handle(f"SIX_joint{k}") for k in range(1, 8)])
+        self.assertEqual(youbot.hYouBotRobot, handle("youBot"))
+        self.assertEqual(len(youbot.hYouBotJoint), 16)
+        self.assertNotIn(-1, list(youbot.hYouBotJoint))
+        named = rospy.wait_for_message("/Irb_JointHandles", vett_JointHandles, timeout=30)
+        self.assertEqual([(h.indice, h.handle, h.nome) for h in named.handles],
+                         [(k, irb.hIrbJoint[k], f"IRB140_joint{k + 1}") for k in range(6)])
+
+    def _hold_irb(self, angles):
+        for k, q in enumerate(angles):
+            h = handle(f"IRB140_joint{k + 1}")
+            self.assertNotEqual(call("simRosSetJointPosition", handle=h, position=q).result, -1)
+
+    def test_03_poses_agree_with_the_kinematics(self):
+        self._hold_irb(IRB_ANGLES)
+        wait_sim_time(1.0)
+        path = os.path.join(rospkg.RosPack().get_path("epuck_vrep_compat"), "models",
+                            "irb140.urdf")
+        chain = load_urdf_chain(path)
+        x, y, z, yaw = IRB_BASE
+        links = chain.forward(dict(zip([f"IRB140_joint{k}" for k in range(1, 7)], IRB_ANGLES)))
+        absolute = rospy.wait_for_message("/Irb_PosOrAss", vett_posOrAssGiunto, timeout=30)
+        relative = rospy.wait_for_message("/Irb_PosOrRel", vett_posOrRelGiunto, timeout=30)
+        self.assertEqual(len(absolute.posizioneOrientamento), 6)
+        base_q = quat_from_yaw(yaw)
+        for k in range(6):
+            link_p, link_q = links[f"IRB140_link{k + 1}"]
+            expected = np.array([x, y, z]) + quat_rotate(base_q, link_p)
+            got = absolute.posizioneOrientamento[k]
+            np.testing.assert_allclose(got.Posizione_Assoluta, expected, atol=2e-3,
+                                       err_msg=f"joint {k + 1} absolute position")
+            # the joint frame's z axis is the joint's axis, in the world
+            axis_world = quat_rotate(base_q, quat_rotate(link_q, chain.axis(k)))
+            z_axis = euler_matrix(*got.Orientamento_Assoluto)[:, 2]
+            np.testing.assert_allclose(z_axis, axis_world, atol=5e-3,
+                                       err_msg=f"joint {k + 1} axis")
+            # relative to its parent link, a joint sits at its URDF origin, whatever the angles
+            np.testing.assert_allclose(relative.posizioneOrientamento[k].Posizione_Relativa,
+                                       chain.origin(k), atol=1e-4,
+                                       err_msg=f"joint {k + 1} relative position")
+
+    def test_04_a_proximity_sensor_sees_a_box_at_a_known_distance(self):
+        self._hold_irb([0.0] * 6)
+        wait_sim_time(0.5)
+        sensor = handle("Proximity_sensor11")
+        probe = handle("probe")
+        position, quat = pose(sensor)
+        axis = quat_rotate(quat, (0.0, 0.0, 1.0))
+        # the probe is a 0.1 m cube: put its near face 0.05 m along the sensor's axis
+        centre = position + axis * (0.05 + 0.05)
+        res = call("simRosSetObjectPose", handle=probe, relativeToObjectHandle=WORLD,
+                   pose=_pose_msg(centre, quat))
+        self.assertNotEqual(res.result, -1)
+        wait_sim_time(0.3)
+        read = call("simRosReadProximitySensor", handle=sensor)
+        self.assertEqual(read.result, 1)
+        self.assertEqual(read.detectedObject, probe)
+        self.assertAlmostEqual(read.detectedPoint[2], 0.05, delta=1e-3)
+        data = rospy.wait_for_message("/prox_data", vett_proxData, timeout=10)
+        by_name = {p.nomeProx: p for p in data.proxData}
+        self.assertEqual(sorted(by_name), [f"Proximity_sensor{k}" for k in range(10, 21)])
+        self.assertEqual((by_name["Proximity_sensor11"].state,
+                          by_name["Proximity_sensor11"].objectHandle), (1, probe))
+        self.assertAlmostEqual(by_name["Proximity_sensor11"].point[2], 0.05, delta=1e-3)
+        # out of range (0.12 m): nothing
+        call("simRosSetObjectPose", handle=probe, relativeToObjectHandle=WORLD,
+             pose=_pose_msg(position + axis * 0.17, quat))
+        wait_sim_time(0.3)
+        self.assertEqual(call("simRosReadProximitySensor", handle=sensor).result, 0)
+
+    def test_05_the_laser_sees_the_operator_at_his_range_and_bearing(self):
+        laser_p, laser_q = pose(handle(LASER))
+        bill = handle("Bill")
+        matches = trials = 0
+        for _ in range(20):
+            scan = rospy.wait_for_message("/vrep/front_scan", LaserScan, timeout=10)
+            bill_p, _ = pose(bill)
+            d = bill_p[:2] - laser_p[:2]
+            distance = math.hypot(*d)
+            bearing = math.atan2(d[1], d[0])          # the scanner is level, facing +x
+            i = int(round((bearing - scan.angle_min) / scan.angle_increment))
+            if not 0 <= i < len(scan.ranges) or distance > scan.range_max:
+                continue
+            trials += 1
+            window = [r for r in scan.ranges[max(0, i - 2):i + 3] if math.isfinite(r)]
+            expected = distance - OPERATOR_RADIUS_M
+            # the operator walks 1.2 m/s: allow his motion between scan and pose (0.06 m)
+            if window and abs(min(window) - expected) < 0.12:
+                matches += 1
+        self.assertGreaterEqual(trials, 10)
+        # a robot can stand between them now and then; most of the time he is seen
+        self.assertGreaterEqual(matches, 0.7 * trials, f"{matches} of {trials}")
+
+    def test_06_each_camera_blob_follows_the_operator(self):
+        for k, name in ((0, "camera0"), (1, "camera")):
+            cam_p, cam_q = pose(handle(name))
+            got = []
+            for _ in range(60):
+                x = rospy.wait_for_message(f"/vrep/Blob_Camera_{k}_X", Float32, timeout=30)
+                y = rospy.wait_for_message(f"/vrep/Blob_Camera_{k}_Y", Float32, timeout=30)
+                bill_p, _ = pose(handle("Bill"))
+                top = bill_p + (0.0, 0.0, 1.3)
+                # V-REP vision sensor: looks along +z, x to the image's left edge... project
+                local = quat_rotate(np.array([-cam_q[0], -cam_q[1], -cam_q[2], cam_q[3]]),
+                                    top - cam_p)
+                f = 0.5 / math.tan(math.radians(40.0))
+                u = 0.5 - f * local[0] / local[2]
+                v = 0.5 + f * local[1] / local[2]
+                if 0.1 < u < 0.9 and 0.1 < v < 0.9:
+                    got.append((x.data - u, y.data - v))
+                if len(got) >= 15:
+                    break
+            self.assertGreaterEqual(len(got), 15, f"camera {k} saw the operator too rarely")
+            err = np.abs(np.array(got))
+            self.assertLess(np.median(err[:, 0]), 0.06, f"camera {k} x: {err[:, 0]}")
+            self.assertLess(np.median(err[:, 1]), 0.06, f"camera {k} y: {err[:, 1]}")
+
+    def test_07_kinect_depth_of_the_table_top(self):
+        depth = handle("kinect_depth")
+        kinect = handle("kinect")
+        # 1.25 m above the table top, looking straight down (body x forward -> down)
+        above = np.array([-1.0, -1.9, TABLE_TOP_Z + 1.25])
+        down = np.array([0.0, math.sin(math.pi / 4), 0.0, math.cos(math.pi / 4)])
+        self.assertNotEqual(call("simRosSetObjectPose", handle=kinect,
+                                 relativeToObjectHandle=WORLD,
+                                 pose=_pose_msg(above, down)).result, -1)
+        wait_sim_time(0.2)
+        res = call("simRosGetVisionSensorDepthBuffer", handle=depth)
+        self.assertEqual(res.result, 1)
+        w, h = res.resolution
+        self.assertEqual((w, h), (640, 480))
+        near, far = 0.5, 5.0
+        buf = np.asarray(res.buffer).reshape(h, w)
+        centre = buf[h // 2 - 25:h // 2 + 25, w // 2 - 50:w // 2 + 50]
+        metres = near + centre * (far - near)
+        sigma = 0.0012 + 0.0019 * (1.25 - 0.4) ** 2
+        self.assertAlmostEqual(float(metres.mean()), 1.25, delta=0.003)
+        self.assertAlmostEqual(float(metres.std()), sigma, delta=0.4 * sigma)
+
+    def test_99_no_errors_logged(self):
+        self.assertEqual(self.guard.errors, [])
+
+
+def _pose_msg(position, quat):
+    from geometry_msgs.msg import Pose
+    msg = Pose()
+    msg.position.x, msg.position.y, msg.position.z = map(float, position)
+    (msg.orientation.x, msg.orientation.y, msg.orientation.z,
+     msg.orientation.w) = map(float, quat)
+    return msg
+
+
+if __name__ == "__main__":
+    rostest.rosrun("epuck_vrep_compat", "merlin_cell", MerlinCell)
