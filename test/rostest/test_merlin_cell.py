@@ -119,26 +119,26 @@ class MerlinCell(unittest.TestCase):
                             "irb140.urdf")
         chain = load_urdf_chain(path)
         x, y, z, yaw = IRB_BASE
-        links = chain.forward(dict(zip([f"IRB140_joint{k}" for k in range(1, 7)], IRB_ANGLES)))
+        names = [f"IRB140_joint{k}" for k in range(1, 7)]
+        joints = {j.name: j for j in chain.joints}
+        links = chain.forward(dict(zip(names, IRB_ANGLES)), (x, y, z), quat_from_yaw(yaw))
         absolute = rospy.wait_for_message("/Irb_PosOrAss", vett_posOrAssGiunto, timeout=30)
         relative = rospy.wait_for_message("/Irb_PosOrRel", vett_posOrRelGiunto, timeout=30)
         self.assertEqual(len(absolute.posizioneOrientamento), 6)
-        base_q = quat_from_yaw(yaw)
-        for k in range(6):
-            link_p, link_q = links[f"IRB140_link{k + 1}"]
-            expected = np.array([x, y, z]) + quat_rotate(base_q, link_p)
+        for k, name in enumerate(names):
+            joint = joints[name]
+            link_p, link_q = links[joint.child]
             got = absolute.posizioneOrientamento[k]
-            np.testing.assert_allclose(got.Posizione_Assoluta, expected, atol=2e-3,
-                                       err_msg=f"joint {k + 1} absolute position")
+            np.testing.assert_allclose(got.Posizione_Assoluta, link_p, atol=2e-3,
+                                       err_msg=f"{name} absolute position")
             # the joint frame's z axis is the joint's axis, in the world
-            axis_world = quat_rotate(base_q, quat_rotate(link_q, chain.axis(k)))
             z_axis = euler_matrix(*got.Orientamento_Assoluto)[:, 2]
-            np.testing.assert_allclose(z_axis, axis_world, atol=5e-3,
-                                       err_msg=f"joint {k + 1} axis")
+            np.testing.assert_allclose(z_axis, quat_rotate(link_q, joint.axis), atol=5e-3,
+                                       err_msg=f"{name} axis")
             # relative to its parent link, a joint sits at its URDF origin, whatever the angles
             np.testing.assert_allclose(relative.posizioneOrientamento[k].Posizione_Relativa,
-                                       chain.origin(k), atol=1e-4,
-                                       err_msg=f"joint {k + 1} relative position")
+                                       joint.origin_position, atol=1e-4,
+                                       err_msg=f"{name} relative position")
 
     def test_04_a_proximity_sensor_sees_a_box_at_a_known_distance(self):
         self._hold_irb([0.0] * 6)

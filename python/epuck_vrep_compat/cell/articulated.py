@@ -27,6 +27,10 @@ from epuck_vrep_compat.vrep import constants as vc
 
 POSITION = "position"
 VELOCITY = "velocity"
+# youBot mecanum base: wheel radius and half wheel base + half track (models.md 4.1)
+WHEELS = ("fl", "rl", "rr", "fr")
+WHEEL_RADIUS_M = 0.0475
+WHEEL_LX_PLUS_LY_M = 0.228 + 0.158
 
 
 @dataclass
@@ -103,8 +107,8 @@ def parse_urdf(path: str) -> UrdfModel:
             joint.lower = float(limit.get("lower", joint.lower))
             joint.upper = float(limit.get("upper", joint.upper))
             joint.velocity = float(limit.get("velocity", joint.velocity))
-            effort = float(limit.get("effort", 0.0))
-            joint.effort = effort if effort > 0.0 else joint.effort
+            # an explicit effort of 0 marks a passive joint (no motor), e.g. a mecanum roller
+            joint.effort = float(limit.get("effort", joint.effort))
         joints.append(joint)
     children = {j.child for j in joints}
     roots = [name for name in collisions if name not in children]
@@ -190,7 +194,8 @@ class ArticulatedRobot:
         self.external = False                  # a client commanded it: the script stops
         position, quat = self.base_pose()
         self.body = pb.loadURDF(spec.urdf, position.tolist(), quat.tolist(), useFixedBase=True,
-                                flags=pb.URDF_USE_INERTIA_FROM_FILE, physicsClientId=client)
+                                flags=pb.URDF_USE_INERTIA_FROM_FILE
+                                | pb.URDF_USE_IMPLICIT_CYLINDER, physicsClientId=client)
         self._inertial = pb.getDynamicsInfo(self.body, -1, physicsClientId=client)[3:5]
         info = [pb.getJointInfo(self.body, j, physicsClientId=client)
                 for j in range(pb.getNumJoints(self.body, physicsClientId=client))]
@@ -207,6 +212,9 @@ class ArticulatedRobot:
         self.joints: List[ArmJoint] = []
         self.objects: Dict[str, reg.SceneObject] = {}
         self._register(registry, movable)
+        # mecanum wheels (youBot): driven from the base's twist
+        self.wheels = {w: self.movable_index(f"rollingJoint_{w}") for w in WHEELS}
+        self.wheels = {w: k for w, k in self.wheels.items() if k is not None}
         # link frames in the world, refreshed every step (index = pybullet link index + 1)
         self.link_names = [self.model.root] + [i[12].decode() for i in info]
         self.link_position = np.zeros((len(self.link_names), 3))
@@ -287,11 +295,19 @@ class ArticulatedRobot:
                                          physicsClientId=self.client)
 
     def move_base(self, dt: float):
-        """Mobile bases move kinematically by their body-frame twist."""
-        if not self.spec.mobile or not self.twist.any():
+        """Mobile bases move kinematically by their body-frame twist; mecanum wheels turn to
+        match (inverse kinematics of a 4-wheel mecanum base)."""
+        if not self.spec.mobile:
+            return
+        vx, vy, wz = self.twist
+        spin = WHEEL_LX_PLUS_LY_M * wz
+        speeds = {"fl": vx - vy - spin, "rl": vx + vy - spin, "rr": vx - vy + spin,
+                  "fr": vx + vy + spin}
+        for w, k in self.wheels.items():
+            self.command(k, VELOCITY, speeds[w] / WHEEL_RADIUS_M, external=False)
+        if not self.twist.any():
             return
         x, y, yaw = self.base_xy_yaw
-        vx, vy, wz = self.twist
         mid = yaw + 0.5 * wz * dt
         self.base_xy_yaw[:] = (x + (vx * math.cos(mid) - vy * math.sin(mid)) * dt,
                                y + (vx * math.sin(mid) + vy * math.cos(mid)) * dt,
