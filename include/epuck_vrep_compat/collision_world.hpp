@@ -91,6 +91,10 @@ class CollisionWorld {
 
   /// Moves an object (the quaternion is normalised). Throws UnknownHandle.
   void set_pose(int handle, const Pose& pose);
+  /// Moves many objects at once (a step's robot links), all or none: every handle and pose is
+  /// checked before anything moves. Throws std::invalid_argument for different lengths or a bad
+  /// pose (naming its index), UnknownHandle for an unknown handle.
+  void set_poses(const std::vector<int>& handles, const std::vector<Pose>& poses);
   /// The pose of an object. Throws UnknownHandle.
   Pose get_pose(int handle) const;
   /// Removes an object. Throws UnknownHandle.

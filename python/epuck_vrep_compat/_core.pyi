@@ -80,6 +80,14 @@ class CollisionWorld:
     ) -> None:
         """Adds a sphere."""
     def set_pose(self, handle: int, position: ArrayLike, quaternion: ArrayLike) -> None: ...
+    def set_poses(
+        self, handles: ArrayLike, positions: ArrayLike, quaternions: ArrayLike
+    ) -> None:
+        """Moves M objects: handles (M,) int, positions (M, 3), quaternions (M, 4) x, y, z, w.
+
+        All or none: KeyError for an unknown handle, ValueError for bad shapes or values
+        (naming the argument or "poses[i]"); nothing moves then.
+        """
     def get_pose(self, handle: int) -> Tuple[FloatArray, FloatArray]:
         """Returns (position (3,), quaternion x, y, z, w (4,))."""
     def remove(self, handle: int) -> None: ...
@@ -226,3 +234,124 @@ class EpuckSwarm:
     def frame(self) -> int: ...
     @property
     def handles(self) -> IntArray: ...
+
+class RayProximityArray:
+    """M single-ray proximity sensors (V-REP "ray type"): sensor i looks along its local +z
+    axis from its origin and detects the first surface at min_range_m[i] <= d <= max_range_m[i].
+    A surface nearer than min_range_m blinds the sensor (it is not seen through)."""
+
+    def __init__(
+        self,
+        min_range_m: ArrayLike,
+        max_range_m: ArrayLike,
+        noise_stddev_m: float = 0.0,
+        seed: int = 0,
+    ) -> None:
+        """Ranges (M,) each, m. Gaussian noise on detected distances (clamped to the range),
+        one draw per sensor per read from its own Rng(seed); 0 disables it."""
+    def read(
+        self,
+        world: CollisionWorld,
+        positions: ArrayLike,
+        quaternions: ArrayLike,
+        ignore_handles: Union[int, ArrayLike] = -1,
+        mask: int = ...,
+    ) -> Tuple[IntArray, FloatArray, FloatArray, IntArray, FloatArray]:
+        """Sensor poses (M, 3) and (M, 4) x, y, z, w in the world; ignore_handles (M,) or one int.
+
+        Returns, in V-REP's order: (detected (M,) int32 0/1, distance (M,) m (+inf: nothing
+        within max_range_m, -inf: first surface nearer than min_range_m), point (M, 3) in the
+        sensor frame (= (0, 0, distance)), handle (M,) int32 (-1: none), normal (M, 3) in the
+        sensor frame). point, normal are zero where not detected. Releases the GIL.
+        """
+    def reseed(self, seed: int) -> None: ...
+    @property
+    def size(self) -> int: ...
+    @property
+    def min_range_m(self) -> FloatArray: ...
+    @property
+    def max_range_m(self) -> FloatArray: ...
+    @property
+    def noise_stddev_m(self) -> float: ...
+
+class LaserScanner:
+    """Planar laser scanner; the defaults are the Hokuyo URG-04LX-UG01 (682 beams of 2 pi/1024
+    from -119.53 deg, 0.02-5.6 m). Beam k lies in the scanner's x-y plane at angle_min_rad +
+    k angle_increment_rad from +x towards +y (sensor_msgs/LaserScan). Noise SD
+    max(sigma_min_m, sigma_rel r) (models.md: 0.01 and 0.01; both 0 by default: off)."""
+
+    def __init__(
+        self,
+        angle_min_rad: float = ...,
+        angle_increment_rad: float = ...,
+        count: int = 682,
+        range_min_m: float = 0.02,
+        range_max_m: float = 5.6,
+        sigma_min_m: float = 0.0,
+        sigma_rel: float = 0.0,
+        seed: int = 0,
+    ) -> None: ...
+    def scan(
+        self,
+        world: CollisionWorld,
+        position: ArrayLike,
+        quaternion: ArrayLike,
+        ignore_handle: int = -1,
+        mask: int = ...,
+    ) -> npt.NDArray[np.float32]:
+        """Ranges (count,) m from the scanner frame at position (3,), quaternion (4,) x, y, z, w.
+
+        REP 117: +inf for no return within range_max_m, -inf for one nearer than range_min_m.
+        One noise draw per beam per scan, in beam order: same seed and scene, same scans.
+        Releases the GIL.
+        """
+    def reseed(self, seed: int) -> None: ...
+    @property
+    def angle_min_rad(self) -> float: ...
+    @property
+    def angle_increment_rad(self) -> float: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def range_min_m(self) -> float: ...
+    @property
+    def range_max_m(self) -> float: ...
+    @property
+    def sigma_min_m(self) -> float: ...
+    @property
+    def sigma_rel(self) -> float: ...
+
+class DepthNoise:
+    """Kinect v1 axial depth noise sigma_z(z) = a_m + b_per_m (z - c_m)^2 (Nguyen et al. 2012),
+    then, if inverse_depth_step_per_m = k > 0, 1/z rounded to multiples of k (disparity
+    quantisation; the Kinect's is about 2.87e-3 per m)."""
+
+    def __init__(
+        self,
+        a_m: float = 0.0012,
+        b_per_m: float = 0.0019,
+        c_m: float = 0.4,
+        inverse_depth_step_per_m: float = 0.0,
+        seed: int = 0,
+    ) -> None: ...
+    def apply(
+        self, depth: npt.ArrayLike, near_m: float, far_m: float
+    ) -> npt.NDArray[np.float32]:
+        """A noisy copy of depth (H, W) m: values >= far_m (no return) stay far_m, the others
+        are clamped to [near_m, far_m]. One draw per pixel, row-major. Releases the GIL."""
+    def sigma_m(self, depth_m: float) -> float: ...
+    def reseed(self, seed: int) -> None: ...
+
+def detect_blobs(
+    image: npt.ArrayLike, threshold: float = 0.5, min_size: float = 0.0
+) -> npt.NDArray[np.float32]:
+    """V-REP's blob detection on an image whose row 0 is the TOP.
+
+    Object pixels: nonzero in a mask (H, W) uint8 or bool; (r + g + b) / 765 >= threshold in
+    an RGB (H, W, 3) uint8 image. 8-connected blobs; those smaller than min_size (fraction of
+    the image) are dropped; the rest come largest first. Returns V-REP's packet:
+    [count, 6, then per blob: size (fraction of the image), orientation (rad, counter-clockwise
+    with y up, meaningful modulo pi/2), x, y (centre of the smallest-area bounding rectangle,
+    0..1, x from the left, y from the BOTTOM), width, height (that rectangle's sides over W and
+    H, measured between pixel centres as V-REP does)]. Releases the GIL.
+    """

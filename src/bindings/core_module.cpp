@@ -294,6 +294,7 @@ void bind_swarm(py::module_& m) {
 }
 
 }  // namespace
+void bind_cell(py::module_& m);  // cell_bindings.cpp
 }  // namespace evc
 
 PYBIND11_MODULE(_core, m) {
@@ -316,4 +317,5 @@ PYBIND11_MODULE(_core, m) {
   evc::bind_world(m);
   evc::bind_model(m);
   evc::bind_swarm(m);
+  evc::bind_cell(m);
 }

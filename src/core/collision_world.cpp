@@ -9,6 +9,7 @@
 
 #include "body.hpp"
 #include "bullet_conversions.hpp"
+#include "pose_checks.hpp"
 
 namespace evc {
 namespace {
@@ -23,18 +24,6 @@ void check_rgb(const Vec3& rgb) {
   if (!rgb.allFinite() || rgb.minCoeff() < 0.0 || rgb.maxCoeff() > 1.0) {
     throw std::invalid_argument("rgb must hold three values in [0, 1]");
   }
-}
-
-// Returns the pose with its quaternion normalised; rejects what cannot be normalised.
-Pose checked_pose(const Pose& pose) {
-  if (!(pose.position_m.array().abs() <= kWorldLimit_m).all()) {
-    throw std::invalid_argument("position must be finite and within ±1e6 m");
-  }
-  const double norm = pose.orientation.coeffs().norm();
-  if (!std::isfinite(norm) || norm < 1e-9) {
-    throw std::invalid_argument("quaternion must be finite and non-zero");
-  }
-  return Pose{pose.position_m, Quat(pose.orientation.coeffs() / norm)};
 }
 
 std::unique_ptr<Body> new_body(int handle, int group, const Vec3& rgb) {
@@ -152,6 +141,24 @@ void CollisionWorld::set_pose(int handle, const Pose& pose) {
   Body& body = find(handle);
   body.object->setWorldTransform(to_bt(checked_pose(pose)));
   world_->updateSingleAabb(body.object.get());
+}
+
+void CollisionWorld::set_poses(const std::vector<int>& handles, const std::vector<Pose>& poses) {
+  if (handles.size() != poses.size()) {
+    throw std::invalid_argument("handles and poses must have the same length");
+  }
+  std::vector<Body*> bodies;
+  std::vector<Pose> valid_poses;
+  bodies.reserve(handles.size());
+  valid_poses.reserve(poses.size());
+  for (std::size_t i = 0; i < handles.size(); ++i) {
+    bodies.push_back(&find(handles[i]));
+    valid_poses.push_back(checked_pose_at(poses, i, "poses"));
+  }
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    bodies[i]->object->setWorldTransform(to_bt(valid_poses[i]));
+    world_->updateSingleAabb(bodies[i]->object.get());
+  }
 }
 
 Pose CollisionWorld::get_pose(int handle) const {

@@ -1,0 +1,70 @@
+#include "ziggurat.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+namespace evc {
+namespace {
+
+constexpr int kStrips = 128;
+constexpr double kTailStart = 3.442619855899;     // r: where the base strip's tail begins
+constexpr double kStripArea = 9.91256303526217e-3;  // v: the area of every strip
+
+double density(double x) { return std::exp(-0.5 * x * x); }
+
+// Strip i spans |x| < edge[i] at heights between density(edge[i]) and density(edge[i + 1]);
+// strip 0 is the base, a rectangle of width v / f(r) standing in for the box under r plus the
+// tail beyond it. ratio[i] = edge[i + 1] / edge[i]: inside it a draw needs no density test.
+struct Tables {
+  std::array<double, kStrips + 1> edge{};
+  std::array<double, kStrips> ratio{};
+
+  Tables() {
+    double f = density(kTailStart);
+    edge[0] = kStripArea / f;
+    edge[1] = kTailStart;
+    edge[kStrips] = 0.0;
+    for (int i = 2; i < kStrips; ++i) {
+      edge[i] = std::sqrt(-2.0 * std::log(kStripArea / edge[i - 1] + f));
+      f = density(edge[i]);
+    }
+    for (int i = 0; i < kStrips; ++i) ratio[i] = edge[i + 1] / edge[i];
+  }
+};
+
+const Tables& tables() {
+  static const Tables instance;
+  return instance;
+}
+
+// A draw beyond r from the normal's tail (Marsaglia 1964), with the sign given.
+double tail(Rng& rng, bool negative) {
+  double x = 0.0, y = 0.0;
+  do {
+    x = std::log(rng.uniform()) / kTailStart;
+    y = std::log(rng.uniform());
+  } while (-2.0 * y < x * x);
+  return negative ? x - kTailStart : kTailStart - x;
+}
+
+}  // namespace
+
+double ziggurat_normal(Rng& rng) {
+  const Tables& t = tables();
+  for (;;) {
+    const std::uint64_t bits = rng.next_u64();
+    // The top 53 bits give u in [-1, 1); the low 7 bits, unused by u, pick the strip.
+    const double u = static_cast<double>(bits >> 11) * 0x1.0p-52 - 1.0;
+    const int strip = static_cast<int>(bits & (kStrips - 1));
+    if (std::abs(u) < t.ratio[strip]) return u * t.edge[strip];
+    if (strip == 0) return tail(rng, u < 0.0);
+    // The wedge beside the strip's core: accept x under the density.
+    const double x = u * t.edge[strip];
+    const double outer = density(t.edge[strip]) / density(x);
+    const double inner = density(t.edge[strip + 1]) / density(x);
+    if (inner + rng.uniform() * (outer - inner) < 1.0) return x;
+  }
+}
+
+}  // namespace evc
