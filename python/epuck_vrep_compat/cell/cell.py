@@ -17,8 +17,8 @@ from epuck_vrep_compat.cell.articulated import POSITION, ArticulatedRobot, world
 from epuck_vrep_compat.cell.operator import WalkingOperator
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
-    IDENTITY_QUAT, compose, quat_from_axis_angle, quat_from_rpy, quat_mul)
-from epuck_vrep_compat.sim.components import CameraSpec, VisionSensor
+    IDENTITY_QUAT, quat_conj, quat_from_axis_angle, quat_from_rpy, yaw_of)
+from epuck_vrep_compat.sim.components import _VISION_TO_CAMERA, CameraSpec, VisionSensor
 from epuck_vrep_compat.vrep import constants as vc
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
@@ -26,9 +26,10 @@ LASER_SEED_OFFSET = 0x1A5E
 KINECT_SEED_OFFSET = 0x71C7
 PROX_SEED_OFFSET = 0x9B0C
 
-# V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up.
-_BODY_TO_VISION = quat_mul(quat_from_axis_angle((0, 0, 1), -math.pi / 2),
-                           quat_from_axis_angle((0, 1, 0), math.pi / 2))
+# V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up:
+# vision z = body x, vision x = body y, vision y = body z (the inverse of the vision-to-camera
+# turn, since the core's camera frame is the body frame).
+_BODY_TO_VISION = quat_conj(_VISION_TO_CAMERA)
 
 
 def quat_from_matrix(m):
@@ -99,13 +100,13 @@ class CellVision(VisionSensor):
             depth = self.depth_noise.apply(depth, s.near_m, s.far_m)
         return rgb, depth
 
-    def blob_packet(self, rgb=None):
-        """V-REP's blob detection filter output: [count, 6, size, orientation, x, y, w, h,...]
-        with x, y relative to the image (y from the bottom)."""
-        if rgb is None:
-            rgb, _ = self.render()
-        mask = (rgb.max(axis=2) > 0).astype(np.uint8)
-        return np.asarray(_core.detect_blobs(mask), dtype=float)
+    def blob_packet(self):
+        """V-REP's blob detection filter on what the sensor renders (pixels where a ray hit
+        something): [count, 6, size, orientation, x, y, w, h, ...], x and y relative to the
+        image, y from the bottom."""
+        _, depth = self.render()
+        return np.asarray(_core.detect_blobs((depth < self.spec.far_m).astype(np.uint8)),
+                          dtype=float)
 
 
 class Cell:
@@ -270,7 +271,7 @@ class Cell:
         vfov = 2.0 * math.atan(math.tan(0.5 * k.horizontal_fov_rad) * h / w)
         spec = CameraSpec(width=w, height=h, rate_hz=30.0, vertical_fov_rad=vfov, near_m=k.near_m,
                           far_m=k.far_m)
-        self.depth_noise = _core.DepthNoise(self.seed + KINECT_SEED_OFFSET)
+        self.depth_noise = _core.DepthNoise(seed=self.seed + KINECT_SEED_OFFSET)
         for suffix, offset_y, noise in (("_depth", -0.0125, self.depth_noise),
                                         ("_rgb", 0.0125, None)):
             obj = registry.add(k.name + suffix, reg.VISION_SENSOR, base.handle,
@@ -379,7 +380,6 @@ class Cell:
         if obj.part != "base":
             raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; move the robot's "
                              "base object, or its joints")
-        from epuck_vrep_compat.scene.transforms import yaw_of
         arm.base_xy_yaw[:] = (float(position[0]), float(position[1]), float(yaw_of(quat)))
         arm.base_z = float(position[2])
         arm.place_base()

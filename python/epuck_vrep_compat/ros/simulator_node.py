@@ -122,7 +122,9 @@ class SimulatorNode:
         batch = self._batch
         batch.add(self._clock, Clock(clock=stamp))
         if batch.wanted(self._tf_pub):
-            batch.add(self._tf_pub, self.tf.message(secs, nsecs))
+            transforms = self.tf.message(secs, nsecs)
+            if transforms is not None:
+                batch.add(self._tf_pub, transforms)
         self.epucks.publish(batch, secs, nsecs)
         if self.cell is not None:
             self.cell.before_streams()

@@ -42,7 +42,7 @@ class TfFace:
         frames, translations, rotations = [], [], []
         self._wheel_rows = []
         n = sim.size
-        children = robot_child_frames(profile, sim, 0)
+        children = robot_child_frames(profile, sim, 0) if n else []
         self.per_robot = 1 + len(children)
         for i, robot in enumerate(sim.robot_names):
             base = profile.frame(robot, names.BASE_FRAME)
@@ -64,6 +64,9 @@ class TfFace:
         self.frames = frames
 
     def message(self, secs: int, nsecs: int):
+        """The step's TF message, or None for a scene without e-pucks."""
+        if not self.frames:
+            return None
         swarm = self._sim.swarm
         if self._profile.odom_tf_from_odometry:
             planar = swarm.odometry[:, :3]

@@ -203,7 +203,8 @@ class VrepBackend(VrepParameters):
     def read_vision_sensor(self, handle: int):
         """simReadVisionSensor: (detection state, auxiliary packets). Our sensors have V-REP's
         default filter, which triggers nothing (state 0) and gives packet 1 only: min, max and
-        average of intensity, red, green, blue and depth, all in 0..1."""
+        average of intensity, red, green, blue and depth, all in 0..1. A sensor with a blob
+        filter adds packet 2: [blob count, 6, per blob size, orientation, x, y, width, height]."""
         sensor = self.vision(handle)
         rgb, depth = sensor.render()
         colour = rgb.reshape(-1, 3).astype(np.float64) / 255.0
@@ -211,6 +212,11 @@ class VrepBackend(VrepParameters):
                                     _normalised_depth(sensor.spec, depth).reshape(-1)))
         packet = np.concatenate((channels.min(axis=0), channels.max(axis=0),
                                  channels.mean(axis=0)))
+        if getattr(sensor, "blob", False):
+            # a blob detection filter (the cell's ceiling cameras): packet 2 is its output, and
+            # it triggers detection while it finds a blob
+            blobs = sensor.blob_packet()
+            return int(blobs[0] > 0), [packet.tolist(), blobs.tolist()]
         return 0, [packet.tolist()]
 
     def read_force_sensor(self, handle: int):
