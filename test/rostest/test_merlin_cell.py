@@ -4,6 +4,9 @@ poses against the URDF kinematics, a proximity sensor, the laser, the blob camer
 Everything is read the way the thesis's nodes read it: /vrep services and their topics."""
 import math
 import os
+import signal
+import subprocess
+import tempfile
 import time
 import unittest
 
@@ -237,6 +240,37 @@ class MerlinCell(unittest.TestCase):
         sigma = 0.0012 + 0.0019 * (1.25 - 0.4) ** 2
         self.assertAlmostEqual(float(metres.mean()), 1.25, delta=0.003)
         self.assertAlmostEqual(float(metres.std()), sigma, delta=0.4 * sigma)
+
+    def test_08_a_recorded_run_becomes_csv_files_and_plots(self):
+        topics = ["/Comau_PosOrAss", "/Irb_PosOrAss", "/YouBot_PosOrAss", "/prox_data"] + [
+            f"/vrep/Blob_Camera_{k}_{a}" for k in (0, 1) for a in "XY"]
+        with tempfile.TemporaryDirectory() as tmp:
+            bag = os.path.join(tmp, "topics.bag")
+            record = subprocess.Popen(["rosbag", "record", "-O", bag] + topics,
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            time.sleep(2.0)                   # subscriptions connected
+            wait_sim_time(8.0)                # the operator walks ~10 m: seen by both cameras
+            record.send_signal(signal.SIGINT)
+            record.wait(timeout=30)
+            out = os.path.join(tmp, "export")
+            done = subprocess.run(["rosrun", "epuck_vrep_compat", "bag_to_csv", bag, "-o", out],
+                                  capture_output=True, text=True, timeout=120)
+            self.assertEqual(done.returncode, 0, done.stderr)
+            files = set(os.listdir(out))
+            for topic in topics:
+                name = topic.strip("/").replace("/", "_") + ".csv"
+                self.assertIn(name, files)
+                with open(os.path.join(out, name)) as f:
+                    lines = f.read().splitlines()
+                self.assertTrue(lines[0].startswith("%time,field."), lines[0])
+                self.assertGreater(len(lines), 20, name)   # 8 s at 20 Hz, partly in view
+            expected = ({f"blob_camera_{k}.png" for k in (0, 1)}
+                        | {f"Irb_joint_{n}.png" for n in range(1, 7)}
+                        | {f"Comau_joint_{n}.png" for n in range(1, 8)})
+            self.assertLessEqual(expected, files)
+            for name in expected:
+                with open(os.path.join(out, name), "rb") as f:
+                    self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", name)
 
     def test_99_no_errors_logged(self):
         self.assertEqual(self.guard.errors, [])
