@@ -8,7 +8,9 @@ setup(**generate_distutils_setup(
         "epuck_vrep_compat.scene",
         "epuck_vrep_compat.sim",
         "epuck_vrep_compat.ros",
+        "epuck_vrep_compat.vrep",
         "epuck_vrep_compat.nodes",
+        "epuck_vrep_compat.thesis",
     ],
     package_dir={"": "python"},
 ))

@@ -8,29 +8,11 @@ return every object, as V-REP 3.2.1 did, which is what clients that index past e
 ROS-free: the ``/vrep`` service and the ``get_object_group_data`` stream both call
 :func:`group_data`.
 """
-import math
-
+from epuck_vrep_compat.scene.transforms import vrep_euler_angles
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 
 NO_DATA = ((), (), ())        # (ints, floats, strings) of one object
-
-
-def vrep_euler_angles(quat):
-    """V-REP's Euler angles (alpha, beta, gamma) of a quaternion (x, y, z, w): the rotation is
-    Rx(alpha) Ry(beta) Rz(gamma), as simGetObjectOrientation reports it."""
-    x, y, z, w = (float(v) for v in quat)
-    r02 = 2.0 * (x * z + w * y)
-    r12 = 2.0 * (y * z - w * x)
-    r22 = 1.0 - 2.0 * (x * x + y * y)
-    r01 = 2.0 * (x * y - w * z)
-    r00 = 1.0 - 2.0 * (y * y + z * z)
-    beta = math.asin(max(-1.0, min(1.0, r02)))
-    if abs(r02) > 1.0 - 1e-12:        # gimbal lock: put all of the z rotation into alpha
-        r21 = 2.0 * (y * z + w * x)
-        r11 = 1.0 - 2.0 * (x * x + z * z)
-        return [math.atan2(r21, r11), beta, 0.0]
-    return [math.atan2(-r12, r22), beta, math.atan2(-r01, r00)]
 
 
 def group_handles(backend, object_type: int):

@@ -1,0 +1,134 @@
+"""[/kinect] (thesis section 4.3.3): the Kinect's depth and colour.
+
+The depth sensor ``kinect_depth`` is read with simRosGetVisionSensorDepthBuffer every cycle and
+published twice:
+- /kinect/depth_buffer (std_msgs/Float32MultiArray): the buffer as V-REP gives it, values 0..1
+  between the near and far clipping planes (0 nearest), rows bottom-up as in V-REP's buffer;
+  layout dims ("height", resY) then ("width", resX);
+- /kinect/depth/image (sensor_msgs/Image 32FC1, REP 118): depth in metres,
+  near + (far - near) * value, rows top-down as every ROS image; +Inf where nothing is nearer
+  than the far plane (value 1).
+The colour sensor ``kinect_rgb`` is read with simRosGetVisionSensorImage and published on
+/kinect/rgb/image (rgb8). Topics follow openni_launch's ``camera/depth/image`` and
+``camera/rgb/...`` layout under ``/kinect``. Nothing is requested for a topic nobody subscribes.
+
+The clipping planes are parameters, Kinect v1's usable range by default (0.5 .. 5.0 m, see
+spec/models.md section 6); they must match the scene's sensor: at start-up the sensor's own
+planes are read (simRosGetObjectFloatParameter 1000/1001) and a mismatch is warned about.
+
+Parameters: ``~depth_sensor`` (kinect_depth), ``~rgb_sensor`` (kinect_rgb),
+``~near_clipping_m`` (0.5), ``~far_clipping_m`` (5.0), ``~rate`` (20 Hz).
+"""
+import math
+from typing import Optional, Sequence
+
+import numpy as np
+import rospy
+from sensor_msgs.msg import Image
+from std_msgs.msg import Float32MultiArray, MultiArrayDimension
+from vrep_common.srv import simRosGetObjectFloatParameter, simRosGetVisionSensorDepthBuffer
+
+from epuck_vrep_compat.thesis import names, params
+from epuck_vrep_compat.thesis.cameras import IMAGE_SERVICES, read_image, stamp_header
+from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
+from epuck_vrep_compat.vrep import constants as vc
+
+DEFAULT_NEAR_M = 0.5
+DEFAULT_FAR_M = 5.0
+
+
+def depth_buffer_message(resolution: Sequence[int], buffer: Sequence[float]) -> Float32MultiArray:
+    width, height = resolution
+    msg = Float32MultiArray(data=list(buffer))
+    msg.layout.dim = [MultiArrayDimension(label="height", size=height, stride=width * height),
+                      MultiArrayDimension(label="width", size=width, stride=width)]
+    return msg
+
+
+def depth_image(resolution: Sequence[int], buffer: Sequence[float], near_m: float,
+                far_m: float) -> Optional[Image]:
+    """32FC1 depth [m], top row first; None when the buffer does not match the resolution."""
+    if len(resolution) != 2:
+        return None
+    width, height = resolution
+    if width <= 0 or height <= 0 or len(buffer) != width * height:
+        return None
+    value = np.asarray(buffer, dtype=np.float32).reshape(height, width)[::-1]
+    depth = (near_m + (far_m - near_m) * value).astype("<f4")
+    depth[value >= 1.0] = np.inf
+    return Image(height=height, width=width, encoding="32FC1", is_bigendian=0, step=4 * width,
+                 data=depth.tobytes())
+
+
+class Kinect:
+    def __init__(self):
+        self.depth_sensor = params.read_name("depth_sensor", names.KINECT_DEPTH_SENSOR)
+        self.rgb_sensor = params.read_name("rgb_sensor", names.KINECT_RGB_SENSOR)
+        self.near_m = params.read_float("near_clipping_m", DEFAULT_NEAR_M)
+        self.far_m = params.read_float("far_clipping_m", DEFAULT_FAR_M, minimum=self.near_m)
+        self.rate_hz = params.read_rate_hz()
+        self.client = VrepClient(dict(
+            IMAGE_SERVICES, simRosGetVisionSensorDepthBuffer=simRosGetVisionSensorDepthBuffer,
+            simRosGetObjectFloatParameter=simRosGetObjectFloatParameter))
+        # images and buffers: only the newest is worth sending
+        self._buffer_pub = rospy.Publisher(names.KINECT_DEPTH_BUFFER_TOPIC, Float32MultiArray,
+                                           queue_size=1)
+        self._depth_pub = rospy.Publisher(names.KINECT_DEPTH_IMAGE_TOPIC, Image, queue_size=1)
+        self._rgb_pub = rospy.Publisher(names.KINECT_RGB_IMAGE_TOPIC, Image, queue_size=1)
+        self._clipping_checked = False
+        rospy.loginfo("%s: depth '%s' -> %s, %s (clipping %.2f .. %.2f m); rgb '%s' -> %s; "
+                      "rate %.1f Hz", rospy.get_name(), self.depth_sensor,
+                      names.KINECT_DEPTH_BUFFER_TOPIC, names.KINECT_DEPTH_IMAGE_TOPIC,
+                      self.near_m, self.far_m, self.rgb_sensor, names.KINECT_RGB_IMAGE_TOPIC,
+                      self.rate_hz)
+
+    def _check_clipping(self, handle: int):
+        planes = [self.client.call("simRosGetObjectFloatParameter", handle=handle,
+                                   parameterID=p)
+                  for p in (vc.VISIONFLOATPARAM_NEAR_CLIPPING, vc.VISIONFLOATPARAM_FAR_CLIPPING)]
+        if any(res is None or res.result == -1 for res in planes):
+            return                          # the simulator cannot say: trust the parameters
+        self._clipping_checked = True
+        near_m, far_m = (res.parameterValue for res in planes)
+        if not (math.isclose(near_m, self.near_m, rel_tol=1e-4)
+                and math.isclose(far_m, self.far_m, rel_tol=1e-4)):
+            rospy.logwarn("%s: sensor '%s' clips at %.3f .. %.3f m but ~near_clipping_m, "
+                          "~far_clipping_m say %.3f .. %.3f m: depths in metres will be wrong",
+                          rospy.get_name(), self.depth_sensor, near_m, far_m, self.near_m,
+                          self.far_m)
+
+    def _publish_depth(self, handle: int):
+        if not self._clipping_checked:
+            self._check_clipping(handle)
+        res = self.client.call("simRosGetVisionSensorDepthBuffer", handle=handle)
+        if res is None:
+            return
+        image = depth_image(res.resolution, res.buffer, self.near_m, self.far_m)
+        if res.result == -1 or image is None:
+            self.client.log.warn("depth", "%s: simRosGetVisionSensorDepthBuffer failed for "
+                                 "'%s' (result %d, resolution %s, %d values)", rospy.get_name(),
+                                 self.depth_sensor, res.result, list(res.resolution),
+                                 len(res.buffer))
+            self.client.forget_handle(self.depth_sensor)
+            return
+        stamp_header(image.header, self.depth_sensor)
+        self._buffer_pub.publish(depth_buffer_message(res.resolution, res.buffer))
+        self._depth_pub.publish(image)
+
+    def step(self):
+        depth = self.client.handle(self.depth_sensor, "vision sensor")      # warn while missing
+        rgb = self.client.handle(self.rgb_sensor, "vision sensor")
+        if depth >= 0 and (self._buffer_pub.get_num_connections()
+                           or self._depth_pub.get_num_connections()):
+            self._publish_depth(depth)
+        if rgb >= 0 and self._rgb_pub.get_num_connections():
+            image = read_image(self.client, rgb, self.rgb_sensor)
+            if image is not None:
+                self._rgb_pub.publish(image)
+
+    def run(self):
+        spin_periodic(self.rate_hz, self.step)
+
+
+def main() -> int:
+    return run_node(names.KINECT_NODE, Kinect)

@@ -1,0 +1,80 @@
+"""Every name the thesis's nodes use, defined once: V-REP object names of the cell (the
+defaults of the nodes' private parameters), node names and topics.
+
+The object names are the V-REP-style names of the cell we build. The youBot's 16 joints are in
+the order of the thesis's ``YouBotMsg``: arm, gripper, the four wheel motors, the four passive
+mecanum roller joints, and a 16th gripper joint whose name may still change (edit it here).
+"""
+from dataclasses import dataclass
+from typing import Tuple
+
+VREP_NODE = "/vrep"
+
+
+@dataclass(frozen=True)
+class Robot:
+    """One robot of the cell: its label in node and topic names, and its V-REP names."""
+
+    label: str                      # "Comau": nodes [/Comau], [/NComau_PosOrAss], ...
+    param_prefix: str               # the hub's parameters ~<prefix>_robot, ~<prefix>_joints
+    robot_name: str                 # V-REP name of the robot's base object
+    joint_names: Tuple[str, ...]    # V-REP names of its joints, in the handle message's order
+
+    @property
+    def handles_topic(self) -> str:
+        return f"/{self.label}Handles"
+
+    @property
+    def joint_handles_topic(self) -> str:
+        return f"/{self.label}_JointHandles"
+
+    def poses_topic(self, absolute: bool) -> str:
+        return f"/{self.label}_PosOr{'Ass' if absolute else 'Rel'}"
+
+    def poses_node(self, absolute: bool) -> str:
+        return f"N{self.label}_PosOr{'Ass' if absolute else 'Rel'}"
+
+
+COMAU = Robot("Comau", "comau", "SIX", tuple(f"SIX_joint{i}" for i in range(1, 8)))
+IRB = Robot("Irb", "irb", "IRB140", tuple(f"IRB140_joint{i}" for i in range(1, 7)))
+YOUBOT = Robot("YouBot", "youbot", "youBot", (
+    "youBotArmJoint0", "youBotArmJoint1", "youBotArmJoint2", "youBotArmJoint3",
+    "youBotArmJoint4",
+    "youBotGripperJoint1", "youBotGripperJoint2",
+    "rollingJoint_fl", "rollingJoint_rl", "rollingJoint_rr", "rollingJoint_fr",
+    "rollerJoint_fl", "rollerJoint_rl", "rollerJoint_rr", "rollerJoint_fr",
+    "youBotGripperJoint0",
+))
+ROBOTS = {robot.label: robot for robot in (COMAU, IRB, YOUBOT)}
+
+HUB_NODE = "robot"
+
+# The eleven proximity sensors on the IRB 140, in the order of /prox_data.
+PROX_NODE = "proxSensors"
+PROX_TOPIC = "/prox_data"
+PROX_SENSOR_NAMES = tuple(f"Proximity_sensor{i}" for i in range(10, 21))
+
+
+@dataclass(frozen=True)
+class Camera:
+    node: str
+    sensor_name: str                # V-REP vision sensor (the thesis's names, as they are)
+    topic: str
+
+
+CAMERAS = {
+    0: Camera("telecamera_0", "camera0", "/Camera_Image_0"),
+    1: Camera("telecamera_1", "camera", "/Camera_Image_1"),
+}
+
+KINECT_NODE = "kinect"
+KINECT_DEPTH_SENSOR = "kinect_depth"
+KINECT_RGB_SENSOR = "kinect_rgb"
+KINECT_DEPTH_BUFFER_TOPIC = "/kinect/depth_buffer"     # std_msgs/Float32MultiArray, V-REP 0..1
+KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"       # sensor_msgs/Image 32FC1 [m]
+KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
+
+# The operator's blob, published by the cameras' child scripts through the plugin (thesis 5.1).
+BLOB_TOPIC_FORMAT = "/vrep/Blob_Camera_{camera}_{axis}"
+
+WORLD_FRAME = "world"           # headerGiunto.header.frame_id of absolute poses
