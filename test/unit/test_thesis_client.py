@@ -25,7 +25,7 @@ def warnings(monkeypatch):
 def test_defaults_are_the_cells_names(set_params):
     assert params.read_rate_hz() == 20.0
     assert params.read_names("comau_joints", COMAU.joint_names)[6] == "SIX_joint7"
-    assert len(YOUBOT.joint_names) == 16 and YOUBOT.joint_names[-1] == "youBotGripperJoint0"
+    assert len(YOUBOT.joint_names) == 16 and YOUBOT.joint_names[-1] == "youBotGripperPinionJoint"
     assert PROX_SENSOR_NAMES == tuple(f"Proximity_sensor{i}" for i in range(10, 21))
 
 

@@ -1,12 +1,15 @@
 """Every name the thesis's nodes use, defined once: V-REP object names of the cell (the
 defaults of the nodes' private parameters), node names and topics.
 
-The object names are the V-REP-style names of the cell we build. The youBot's 16 joints are in
-the order of the thesis's ``YouBotMsg``: arm, gripper, the four wheel motors, the four passive
-mecanum roller joints, and a 16th gripper joint whose name may still change (edit it here).
+The object names are the V-REP-style names of the cell we build, from the models' own table
+(:mod:`epuck_vrep_compat.cell.robots`). The youBot's 16 joints are in the order of the thesis's
+``YouBotMsg``: arm, gripper fingers, the four wheel motors, the four passive mecanum roller
+joints, and the gripper's drive pinion (models/README.md says why).
 """
 from dataclasses import dataclass
 from typing import Tuple
+
+from epuck_vrep_compat.cell import robots as models
 
 VREP_NODE = "/vrep"
 
@@ -35,16 +38,10 @@ class Robot:
         return f"N{self.label}_PosOr{'Ass' if absolute else 'Rel'}"
 
 
-COMAU = Robot("Comau", "comau", "SIX", tuple(f"SIX_joint{i}" for i in range(1, 8)))
-IRB = Robot("Irb", "irb", "IRB140", tuple(f"IRB140_joint{i}" for i in range(1, 7)))
-YOUBOT = Robot("YouBot", "youbot", "youBot", (
-    "youBotArmJoint0", "youBotArmJoint1", "youBotArmJoint2", "youBotArmJoint3",
-    "youBotArmJoint4",
-    "youBotGripperJoint1", "youBotGripperJoint2",
-    "rollingJoint_fl", "rollingJoint_rl", "rollingJoint_rr", "rollingJoint_fr",
-    "rollerJoint_fl", "rollerJoint_rl", "rollerJoint_rr", "rollerJoint_fr",
-    "youBotGripperJoint0",
-))
+# Object names: the cell's models (one table, cell/robots.py).
+COMAU = Robot("Comau", "comau", models.COMAU_SMART_SIX.base_link, models.COMAU_SMART_SIX.joints)
+IRB = Robot("Irb", "irb", models.IRB140.base_link, models.IRB140.joints)
+YOUBOT = Robot("YouBot", "youbot", models.YOUBOT.base_link, models.YOUBOT.joints)
 ROBOTS = {robot.label: robot for robot in (COMAU, IRB, YOUBOT)}
 
 HUB_NODE = "robot"
