@@ -9,6 +9,19 @@ from rosgraph_msgs.msg import Log
 PKG = "epuck_vrep_compat"
 
 
+def call(name, **fields):
+    """Call /vrep/<name> (a vrep_common service) with the request's fields."""
+    import vrep_common.srv
+    service = getattr(vrep_common.srv, name)
+    proxy = rospy.ServiceProxy("/vrep/" + name, service)
+    return proxy.call(service._request_class(**fields))
+
+
+def handle(name):
+    """simRosGetObjectHandle: the handle, -1 for no such object."""
+    return call("simRosGetObjectHandle", objectName=name).handle
+
+
 def wait_for_message(topic, msg_class, timeout_s=20.0):
     return rospy.wait_for_message(topic, msg_class, timeout=timeout_s)
 

@@ -14,7 +14,6 @@ import numpy as np
 import rospkg
 import rospy
 import rostest
-import vrep_common.srv
 from sensor_msgs.msg import Image, LaserScan
 from std_msgs.msg import Float32
 
@@ -23,7 +22,8 @@ from epuck_vrep_compat.msg import (
     ComauMsg, IrbMsg, YouBotMsg, vett_JointHandles, vett_posOrAssGiunto, vett_posOrRelGiunto,
     vett_proxData)
 from epuck_vrep_compat.scene.transforms import quat_from_yaw, quat_rotate
-from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_sim_time
+from sim_test_helpers import (
+    Collector, RosoutGuard, call, handle, sim_time_now, wait_sim_time)
 
 WORLD, PARENT = -1, -11
 IRB_BASE = (0.4, 1.9, 0.0, -math.pi / 2)           # worlds/merlin_cell.yaml
@@ -31,16 +31,6 @@ IRB_ANGLES = [0.3, -0.4, 0.5, 0.6, -0.7, 0.8]
 LASER = "Hokuyo_URG_04LX_UG01_ROS"
 OPERATOR_RADIUS_M = 0.2
 TABLE_TOP_Z = 0.75
-
-
-def call(name, **fields):
-    service = getattr(vrep_common.srv, name)
-    proxy = rospy.ServiceProxy("/vrep/" + name, service)
-    return proxy.call(service._request_class(**fields))
-
-
-def handle(name):
-    return call("simRosGetObjectHandle", objectName=name).handle
 
 
 def pose(h, relative=WORLD):

@@ -12,23 +12,13 @@ import rostest
 import vrep_common.srv
 from vrep_common.msg import VrepInfo
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, wait_sim_time
+from sim_test_helpers import PKG, Collector, RosoutGuard, call, handle, wait_sim_time
 
 WALL_AHEAD_OF_CAMERA_M = 0.5 - (0.3 + 0.037)
 NEAR_M, FAR_M = 0.005, 2.0                  # CameraSpec defaults
 CAMERA_W, CAMERA_H = 32, 24                 # vrep_services.test
 HANDLE_ALL, HANDLE_PARENT, WORLD = -2, -11, -1
 NOT_ADVERTISED = {"simRosAppendStringSignal"}
-
-
-def call(name, **fields):
-    service = getattr(vrep_common.srv, name)
-    proxy = rospy.ServiceProxy("/vrep/" + name, service)
-    return proxy.call(service._request_class(**fields))
-
-
-def handle(name):
-    return call("simRosGetObjectHandle", objectName=name).handle
 
 
 def info_seq(msg):
