@@ -8,8 +8,13 @@
 /// (cone_sensor.hpp) with their noise (range_noise.hpp).
 ///
 /// Randomness: each robot owns one generator per noise source (IR, accelerometer, gyroscope,
-/// slip), seeded by derive_seed(seed, robot index, stream), so a robot's draws never depend on
-/// the other robots. All noise is off until set.
+/// slip), seeded by derive_seed(seed, stream id, source). A robot's stream id is the number of
+/// robots added to the swarm before it and stays with the robot when others are removed, so a
+/// robot's draws never depend on the other robots, nor on which of them are still there.
+/// All noise is off until set.
+///
+/// Robots can be added and removed between steps. Removal keeps the order of the others, so
+/// the rows of every output shift up by one past the removed robot.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +47,9 @@ class EpuckSwarm {
   /// under @p handle (group ROBOT). Returns the robot's index. Throws std::invalid_argument for
   /// a used handle, |x| or |y| beyond kWorldLimit_m or a non-finite yaw.
   int add_robot(int handle, double x_m, double y_m, double yaw_rad);
+  /// Removes robot @p index and its body from the world; the robots after it move up one row
+  /// and keep their state and noise streams. Throws std::out_of_range.
+  void remove_robot(int index);
   /// Number of robots.
   int size() const { return static_cast<int>(robots_.size()); }
   /// Number of proximity sensors per robot (the model's).
@@ -99,6 +107,8 @@ class EpuckSwarm {
   RowMatrixXd gyro() const;
   /// (N,) body handles.
   VectorXi handles() const;
+  /// (N,) noise stream ids (see the file comment).
+  std::vector<std::uint64_t> stream_ids() const;
   /// Steps taken.
   std::int64_t frame() const { return frame_; }
 
@@ -112,6 +122,7 @@ class EpuckSwarm {
   };
   struct Robot {
     int handle = -1;
+    std::uint64_t stream = 0;      // derive_seed's index: the robot's own noise streams
     Pose2 pose;
     Pose2 odometry;
     Twist2 odometry_twist;
@@ -130,7 +141,7 @@ class EpuckSwarm {
   };
 
   Robot& robot_at(int index);
-  void seed_streams(Robot& robot, std::size_t index) const;
+  void seed_streams(Robot& robot) const;
   Pose body_pose(const Pose2& pose) const;
   void move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s);
   void read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
@@ -149,6 +160,7 @@ class EpuckSwarm {
   double sensor_z_max_m_ = 0.0;
   std::uint64_t seed_;
   std::vector<Robot> robots_;
+  std::uint64_t next_stream_ = 0;  // stream id of the next robot added
   std::int64_t frame_ = 0;
 };
 

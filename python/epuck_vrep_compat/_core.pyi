@@ -176,6 +176,8 @@ class EpuckSwarm:
 
     def __init__(self, world: CollisionWorld, model: EpuckModel, seed: int) -> None: ...
     def add_robot(self, handle: int, x: float, y: float, yaw: float) -> int: ...
+    def remove_robot(self, index: int) -> None:
+        """Removes a robot and its body; later rows move up, keeping state and noise streams."""
     @property
     def size(self) -> int: ...
     @property
@@ -234,6 +236,9 @@ class EpuckSwarm:
     def frame(self) -> int: ...
     @property
     def handles(self) -> IntArray: ...
+    @property
+    def stream_ids(self) -> List[int]:
+        """Noise stream id of each robot: how many robots were added before it."""
 
 class RayProximityArray:
     """M single-ray proximity sensors (V-REP "ray type"): sensor i looks along its local +z

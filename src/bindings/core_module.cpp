@@ -243,6 +243,9 @@ void bind_swarm(py::module_& m) {
            "seed"_a, py::keep_alive<1, 2>(), "ValueError for an invalid model.")
       .def("add_robot", &EpuckSwarm::add_robot, "handle"_a, "x"_a, "y"_a, "yaw"_a,
            "Adds a robot (body cylinder under handle, group ROBOT); returns its index.")
+      .def("remove_robot", &EpuckSwarm::remove_robot, "index"_a,
+           "Removes a robot and its body; later robots move up one row, keeping their state "
+           "and noise streams. IndexError for a bad index.")
       .def_property_readonly("size", &EpuckSwarm::size, "Number of robots.")
       .def_property_readonly("sensor_count", &EpuckSwarm::sensor_count, "IR sensors per robot.")
       .def("set_ir_noise", &EpuckSwarm::set_ir_noise, "probability"_a, "mean_m"_a,
@@ -290,7 +293,9 @@ void bind_swarm(py::module_& m) {
       .def_property_readonly("accel", &EpuckSwarm::accel, "(N, 3) specific force, m/s^2.")
       .def_property_readonly("gyro", &EpuckSwarm::gyro, "(N, 3) angular velocity, rad/s.")
       .def_property_readonly("frame", &EpuckSwarm::frame, "Steps taken.")
-      .def_property_readonly("handles", &EpuckSwarm::handles, "(N,) int32 body handles.");
+      .def_property_readonly("handles", &EpuckSwarm::handles, "(N,) int32 body handles.")
+      .def_property_readonly("stream_ids", &EpuckSwarm::stream_ids,
+                             "Noise stream id of each robot (robots added before it).");
 }
 
 }  // namespace

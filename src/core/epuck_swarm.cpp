@@ -73,23 +73,32 @@ int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
     robot.sensors.push_back(nothing);
   }
   robot.ir_noise.assign(model_.sensors.size(), RangeNoise());
-  seed_streams(robot, robots_.size());
+  robot.stream = next_stream_;
+  seed_streams(robot);
   world_.add_cylinder(handle, model_.body_radius_m, model_.body_height_m, body_pose(robot.pose),
                       kRobotBodyRgb, kGroupRobot);
+  ++next_stream_;  // only once the body is in: a refused robot takes no stream
   robots_.push_back(std::move(robot));
   return size() - 1;
 }
 
-void EpuckSwarm::seed_streams(Robot& robot, std::size_t index) const {
-  robot.ir_rng = Rng(derive_seed(seed_, index, kStreamIr));
-  robot.accel_rng = Rng(derive_seed(seed_, index, kStreamAccel));
-  robot.gyro_rng = Rng(derive_seed(seed_, index, kStreamGyro));
-  robot.slip_rng = Rng(derive_seed(seed_, index, kStreamSlip));
+void EpuckSwarm::remove_robot(int index) {
+  const Robot& robot = robot_at(index);
+  // A body someone already took out of the world must not keep the robot in the swarm.
+  if (world_.has(robot.handle)) world_.remove(robot.handle);
+  robots_.erase(robots_.begin() + index);
+}
+
+void EpuckSwarm::seed_streams(Robot& robot) const {
+  robot.ir_rng = Rng(derive_seed(seed_, robot.stream, kStreamIr));
+  robot.accel_rng = Rng(derive_seed(seed_, robot.stream, kStreamAccel));
+  robot.gyro_rng = Rng(derive_seed(seed_, robot.stream, kStreamGyro));
+  robot.slip_rng = Rng(derive_seed(seed_, robot.stream, kStreamSlip));
 }
 
 void EpuckSwarm::reseed(std::uint64_t seed) {
   seed_ = seed;
-  for (std::size_t i = 0; i < robots_.size(); ++i) seed_streams(robots_[i], i);
+  for (Robot& robot : robots_) seed_streams(robot);
 }
 
 Pose EpuckSwarm::body_pose(const Pose2& pose) const {

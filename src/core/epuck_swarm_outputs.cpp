@@ -99,4 +99,11 @@ VectorXi EpuckSwarm::handles() const {
   return out;
 }
 
+std::vector<std::uint64_t> EpuckSwarm::stream_ids() const {
+  std::vector<std::uint64_t> out;
+  out.reserve(robots_.size());
+  for (const Robot& robot : robots_) out.push_back(robot.stream);
+  return out;
+}
+
 }  // namespace evc

@@ -12,13 +12,19 @@ DT = 0.05
 ROBOTS = [(100 + i, -0.2 + 0.1 * i, 0.02 * (-1) ** i, 0.7 * i) for i in range(5)]  # 3 cm gaps
 
 
-def noisy_run(seed, steps, reseed=None):
-    """Five robots in a small arena with every noise source on; returns the final swarm."""
+def arena_swarm(half_size_m, seed):
+    """The five ROBOTS in a walled square (the swarm keeps its world alive)."""
     world = _core.CollisionWorld()
-    add_arena(world, 0.25)
+    add_arena(world, half_size_m)
     swarm = _core.EpuckSwarm(world, _core.EpuckModel(), seed)
     for robot in ROBOTS:
         swarm.add_robot(*robot)
+    return swarm
+
+
+def noisy_run(seed, steps, reseed=None):
+    """Five robots in a small arena with every noise source on; returns the final swarm."""
+    swarm = arena_swarm(0.25, seed)
     n = swarm.size
     swarm.set_ir_noise(np.full((n, 8), 0.5), np.full((n, 8), 0.002), np.full((n, 8), 0.001))
     swarm.set_imu_noise(np.full((n, 3), 0.05), np.full((n, 3), 0.01))
@@ -39,11 +45,7 @@ def test_same_seed_is_bit_identical_after_1000_steps():
 
 
 def test_reset_and_rerun_is_bit_identical():
-    world = _core.CollisionWorld()
-    add_arena(world, 0.2)
-    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 3)
-    for robot in ROBOTS:
-        swarm.add_robot(*robot)
+    swarm = arena_swarm(0.2, 3)
     swarm.set_slip_noise(np.full(swarm.size, 0.05))
     swarm.set_ir_noise(*(np.full((swarm.size, 8), v) for v in (0.5, 0.002, 0.001)))
     commands = np.random.default_rng(5).uniform(-7.0, 7.0, (300, swarm.size, 2))
@@ -207,3 +209,121 @@ def test_hostile_floats_are_refused_or_harmless(world, make_swarm, value):
                      "ranges", "ranges_clean", "detected_points", "detected_normals", "accel",
                      "gyro"):
             assert np.isfinite(getattr(swarm, name)).all(), name
+
+
+# --- robots added and removed between steps --------------------------------------------------
+FAR_APART = [(300 + i, 50.0 * i, 0.0, 0.3 * i) for i in range(3)]     # nobody sees anybody
+OUTPUTS = ("poses", "velocities", "wheel_speeds", "wheel_angles", "odometry", "ranges",
+           "ranges_clean", "detected_handles", "accel", "gyro")
+
+
+def all_noise_on(swarm):
+    n = swarm.size
+    swarm.set_ir_noise(np.ones((n, 8)), np.full((n, 8), -0.01), np.full((n, 8), 0.003))
+    swarm.set_imu_noise(np.full((n, 3), 0.05), np.full((n, 3), 0.01))
+    swarm.set_slip_noise(np.full(n, 0.05))
+
+
+def far_apart_run(world, steps_before, steps_after, remove=None, reseed=None):
+    """Three robots 50 m apart, each in front of its own wall (so IR noise is drawn); robot
+    ``remove`` leaves after ``steps_before`` steps. Returns the swarm."""
+    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 11)
+    for i, robot in enumerate(FAR_APART):
+        world.add_box(400 + i, (0.005, 0.1, 0.05), (50.0 * i + 0.06, 0.0, 0.05), IDENTITY, GREY)
+        swarm.add_robot(*robot)
+    all_noise_on(swarm)
+    drive = np.random.default_rng(3).uniform(-0.5, 0.5, (steps_before + steps_after, 3, 2))
+    for command in drive[:steps_before]:
+        swarm.step(DT, command)
+    keep = [0, 1, 2]
+    if remove is not None:
+        swarm.remove_robot(remove)
+        keep.remove(remove)
+    if reseed is not None:
+        swarm.reseed(reseed)
+    for command in drive[steps_before:]:
+        swarm.step(DT, command[keep])
+    return swarm
+
+
+def test_removing_a_robot_keeps_the_others_noise_streams_bit_for_bit():
+    full = far_apart_run(_core.CollisionWorld(), 30, 40)
+    removed = far_apart_run(_core.CollisionWorld(), 30, 40, remove=1)
+    assert removed.size == 2 and list(removed.handles) == [300, 302]
+    assert removed.stream_ids == [0, 2]
+    assert not np.array_equal(full.ranges, full.ranges_clean)        # the noise was drawn
+    for name in OUTPUTS:
+        np.testing.assert_array_equal(getattr(removed, name), getattr(full, name)[[0, 2]],
+                                      err_msg=name)
+
+
+def test_reseed_after_a_removal_restarts_each_robot_on_its_own_stream():
+    full = far_apart_run(_core.CollisionWorld(), 10, 25, reseed=4)
+    removed = far_apart_run(_core.CollisionWorld(), 10, 25, remove=0, reseed=4)
+    for name in OUTPUTS:
+        np.testing.assert_array_equal(getattr(removed, name), getattr(full, name)[[1, 2]],
+                                      err_msg=name)
+
+
+def test_remove_robot_takes_its_body_out_and_shifts_the_rows(world, make_swarm):
+    swarm = make_swarm(ROBOTS)
+    swarm.step(DT, still(swarm))
+    poses = swarm.poses
+    swarm.remove_robot(2)
+    assert not world.has(ROBOTS[2][0]) and world.has(ROBOTS[3][0])
+    assert list(swarm.handles) == [r[0] for i, r in enumerate(ROBOTS) if i != 2]
+    np.testing.assert_array_equal(swarm.poses, np.delete(poses, 2, axis=0))
+    with pytest.raises(ValueError):
+        swarm.step(DT, np.zeros((len(ROBOTS), 2)))                 # the old shape
+    swarm.step(DT, still(swarm))
+    n = swarm.size
+    for name, shape in dict(poses=(n, 3), ranges=(n, 8), detected_points=(n, 8, 3),
+                            accel=(n, 3), handles=(n,)).items():
+        assert getattr(swarm, name).shape == shape, name
+    # Nobody detects the removed body any more.
+    assert not (swarm.detected_handles == ROBOTS[2][0]).any()
+
+
+def test_a_robot_added_after_a_removal_gets_a_new_stream_and_can_reuse_nothing(world,
+                                                                            make_swarm):
+    swarm = make_swarm(ROBOTS[:3])
+    swarm.remove_robot(1)
+    with pytest.raises(ValueError):
+        swarm.add_robot(ROBOTS[0][0], 1.0, 1.0, 0.0)               # still used by robot 0
+    assert swarm.add_robot(ROBOTS[1][0], 2.0, 2.0, 0.0) == 2        # its body is free again
+    assert swarm.stream_ids == [0, 2, 3]
+    swarm.step(DT, still(swarm))
+    assert world.has(ROBOTS[1][0])
+
+
+def test_remove_robot_validates_the_index_and_survives_a_lost_body(world, make_swarm):
+    swarm = make_swarm(ROBOTS[:2])
+    for bad in (-1, 2):
+        with pytest.raises(IndexError):
+            swarm.remove_robot(bad)
+    world.remove(ROBOTS[0][0])
+    swarm.remove_robot(0)              # the swarm lets go of a robot whose body is gone
+    swarm.step(DT, still(swarm))
+    assert swarm.size == 1
+    swarm.remove_robot(0)
+    swarm.step(DT, still(swarm))       # an empty swarm still steps
+    assert swarm.size == 0 and swarm.poses.shape == (0, 3)
+
+
+def test_adding_and_removing_is_deterministic():
+    def run():
+        swarm = arena_swarm(0.25, 21)
+        all_noise_on(swarm)
+        rng = np.random.default_rng(8)
+        for k in range(120):
+            if k == 40:
+                swarm.remove_robot(3)
+            if k == 80:
+                swarm.add_robot(900, 0.0, -0.15, 1.0)
+                all_noise_on(swarm)
+            swarm.step(DT, rng.uniform(-6.0, 6.0, (swarm.size, 2)))
+        return swarm
+
+    a, b = run(), run()
+    for name in OUTPUTS:
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)

@@ -314,8 +314,8 @@ class VrepServices(unittest.TestCase):
         errors = self.last_errors()
         self.assertEqual(len(errors), 7)
         self.assertTrue(errors[0].startswith("simRosGetObjectHandle: "))
-        self.assertIn("simRosLoadModel: adding or removing objects at run time is not "
-                      "supported yet", errors)
+        self.assertIn("simRosLoadModel: model file 'x.ttm' is not known (models: ePuck.ttm, "
+                      "e-puck.ttm)", errors)
         self.assertIn("simRosDisplayDialog is not supported by this simulator (no dialogs)",
                       errors)
         self.assertEqual(self.last_errors(), [])                          # emptied when read

@@ -127,7 +127,7 @@ TEST_F(VrepCppClient, JointTargetVelocity) {
 TEST_F(VrepCppClient, FailureAnswersAndLastErrors) {
   EXPECT_EQ(handle("no_such_object"), -1);
   vrep_common::simRosLoadModel load;
-  load.request.fileName = "e-puck.ttm";
+  load.request.fileName = "no_such_model.ttm";
   load = call("simRosLoadModel", load);
   EXPECT_EQ(load.response.result, -1);
   vrep_common::simRosSetJointTargetVelocity nan_speed;
@@ -146,8 +146,8 @@ TEST_F(VrepCppClient, FailureAnswersAndLastErrors) {
   }
   ASSERT_EQ(messages.size(), 3u);
   EXPECT_EQ(messages[0].rfind("simRosGetObjectHandle: ", 0), 0u);
-  EXPECT_EQ(messages[1], "simRosLoadModel: adding or removing objects at run time is not "
-                         "supported yet");
+  EXPECT_EQ(messages[1], "simRosLoadModel: model file 'no_such_model.ttm' is not known "
+                         "(models: ePuck.ttm, e-puck.ttm)");
   EXPECT_EQ(call<vrep_common::simRosGetLastErrors>("simRosGetLastErrors").response.errorCnt, 0);
 }
 

@@ -36,10 +36,10 @@ def test_per_robot_override_changes_only_that_robot():
                                         stddev_m=np.zeros(8)),
                              accel_stddev_m_s2=np.zeros(3), gyro_stddev_rad_s=np.zeros(3),
                              wheel_slip_stddev=0.0)
-    settings.ir_per_robot[1] = IrNoise(probability=np.ones(8), mean_m=np.full(8, 0.01),
+    settings.ir_per_robot["ePuck1"] = IrNoise(probability=np.ones(8), mean_m=np.full(8, 0.01),
                                        stddev_m=np.full(8, 0.001))
     swarm = _swarm(2)
-    settings.apply(swarm, 2)
+    settings.apply(swarm, ["ePuck0", "ePuck1"])
     swarm.step(0.05, np.zeros((2, 2)))
     np.testing.assert_array_equal(swarm.ranges[0], swarm.ranges_clean[0])
     assert np.all(swarm.ranges[1] < swarm.ranges_clean[1])
@@ -47,7 +47,7 @@ def test_per_robot_override_changes_only_that_robot():
 
 def test_master_switch_turns_every_source_off():
     swarm = _swarm(1)
-    NoiseSettings(enabled=False).apply(swarm, 1)
+    NoiseSettings(enabled=False).apply(swarm, ["ePuck0"])
     for _ in range(5):
         swarm.step(0.05, np.array([[1.0, 1.0]]))
     np.testing.assert_array_equal(swarm.ranges, swarm.ranges_clean)

@@ -351,6 +351,26 @@ def test_a_stream_whose_target_goes_ends(vrep):
         == -1
 
 
+def test_streams_on_a_removed_robot_end_and_the_step_goes_on(vrep):
+    backend, streams, wiring = vrep
+    parts = backend.sim.add_robot()                      # as simRosLoadModel does
+    joint, sensor = parts.handle("leftJoint"), parts.handle("proxSensor0")
+    streams.enable_publisher(pub_req("js", vc.STRMCMD_GET_JOINT_STATE, joint))
+    streams.enable_publisher(pub_req("pose", vc.STRMCMD_GET_OBJECT_POSE, parts.root.handle, -1))
+    streams.enable_subscriber(sub_req("v", vc.STRMCMD_SET_JOINT_TARGET_VELOCITY, joint))
+    streams.enable_publisher(pub_req("prox", vc.STRMCMD_READ_PROXIMITY_SENSOR, sensor))
+    batch = step(backend, streams)
+    assert len(batch.on("/vrep/js")) == 1 and len(batch.on("/vrep/pose")) == 1
+    backend.remove_object(parts.root.handle)
+    batch = step(backend, streams)
+    assert batch.sent == []                              # every stream ended, no exception
+    wiring.subscribers[-1].deliver(Float64(1.0))
+    assert not wiring.subscribers[-1].registered
+    errors = backend.errors.take()
+    assert sum("ended" in e for e in errors) == 3, errors
+    assert streams.disable_publisher(simRosDisablePublisherRequest("js")).referenceCounter == -1
+
+
 def test_subscribers(vrep):
     backend, streams, wiring = vrep
     left = backend.object_handle("ePuck_leftJoint")

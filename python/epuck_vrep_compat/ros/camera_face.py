@@ -3,6 +3,7 @@
 Unlike the V-REP script (frame id ``"a"``, bottom row first, ``is_bigendian`` 1) the image is
 top row first, frame ``<robot>/camera_optical``, with a latched ``camera_info`` beside it.
 The image publisher has a queue of 1: a slow viewer drops frames instead of stalling the step.
+:meth:`CameraFace.sync` follows robots added to and removed from the simulation.
 """
 import math
 
@@ -44,32 +45,51 @@ def camera_info(width, height, vertical_fov_rad, frame_id) -> CameraInfo:
 
 class CameraFace:
     def __init__(self, profile, sim):
+        self.profile = profile
         self.sim = sim
-        params = sim.camera
-        self._period_s = 1.0 / params.rate_hz
-        self._next_due_s = np.zeros(sim.size)
-        self._sensors = [robot.parts["camera"].properties["vision"] for robot in sim.robots]
-        self._frames = [profile.frame(name, names.CAMERA_FRAME) for name in sim.robot_names]
-        self._images = [rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1)
-                        for name in sim.robot_names]
-        self._infos = []
-        for name, frame in zip(sim.robot_names, self._frames):
-            pub = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo, queue_size=1,
-                                  latch=True)
-            pub.publish(camera_info(params.width, params.height, params.vertical_fov_rad, frame))
-            self._infos.append(pub)
+        self._period_s = 1.0 / sim.camera.rate_hz
+        self._cameras = {}            # robot name -> _Camera
+        self.sync()
+
+    def sync(self):
+        """Follow the simulation's robots (between steps): a camera for each new robot, none
+        for each removed one."""
+        names_now = self.sim.robot_names
+        for name in [n for n in self._cameras if n not in names_now]:
+            self._cameras.pop(name).close()
+        for name, robot in zip(names_now, self.sim.robots):
+            if name not in self._cameras:
+                self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot)
 
     def publish(self, secs: int, nsecs: int):
         now = self.sim.time_s
-        for i, pub in enumerate(self._images):
-            if now + 1e-9 < self._next_due_s[i] or not pub.impl.has_connections():
+        for camera in self._cameras.values():
+            if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
                 continue
-            self._next_due_s[i] = now + self._period_s
-            pub.publish(self.render(i, secs, nsecs))
+            camera.next_due_s = now + self._period_s
+            camera.image.publish(camera.render(secs, nsecs))
 
-    def render(self, i: int, secs: int, nsecs: int) -> Image:
-        rgb, _depth = self._sensors[i].render()
+
+class _Camera:
+    """One robot's camera: its vision sensor, image topic and latched camera_info."""
+
+    def __init__(self, profile, spec, name, robot):
+        self.sensor = robot.parts["camera"].properties["vision"]
+        self.frame = profile.frame(name, names.CAMERA_FRAME)
+        self.next_due_s = 0.0
+        self.image = rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1)
+        self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
+                                    queue_size=1, latch=True)
+        self.info.publish(camera_info(spec.width, spec.height, spec.vertical_fov_rad,
+                                      self.frame))
+
+    def render(self, secs: int, nsecs: int) -> Image:
+        rgb, _depth = self.sensor.render()
         msg = fill_image(Image(), rgb)
         msg.header.stamp = rospy.Time(secs, nsecs)
-        msg.header.frame_id = self._frames[i]
+        msg.header.frame_id = self.frame
         return msg
+
+    def close(self):
+        self.image.unregister()
+        self.info.unregister()

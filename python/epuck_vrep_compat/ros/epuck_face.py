@@ -1,8 +1,10 @@
-"""The per-robot topics of a topic profile: sensors out, ``cmd_vel`` and ``cmd_led`` in.
+"""The per-robot topics of a topic profile: sensors out, ``cmd_vel`` in.
 
 Publishing happens once per step from the simulation thread, only for publishers that have a
 subscriber (tracked by a subscribe listener, so idle robots cost nothing). Per-step messages go
-out synchronously (see ``publishing.py``). Callbacks only validate and store commands.
+out synchronously (see ``publishing.py``). Callbacks only validate and store commands, by robot
+name. :meth:`EpuckFace.sync` follows robots added to and removed from the simulation: a new
+robot's topics are advertised, a removed robot's unadvertised.
 """
 import threading
 
@@ -19,24 +21,27 @@ GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
 
 
 class _ConnectionCounter(rospy.SubscribeListener):
-    """Keeps ``counts[index]`` = subscriber connections of one robot's publishers.
+    """Keeps ``face.connections[index]`` = subscriber connections of one robot's publishers
+    (``index``: the robot's row, -1 before it has one and once it is removed).
 
     Recounted from the publishers on every event: rospy may report one disconnection twice
     (a failed write and the transport's cleanup), so counting events would drift.
     """
 
-    def __init__(self, counts, index, lock):
+    def __init__(self, face):
         super().__init__()
-        self._counts = counts
-        self._index = index
-        self._lock = lock
+        self._face = face
+        self.index = -1
+        self.count = 0
         self.publishers = []
 
     def _recount(self):
         count = sum(len(p.impl.connections) for p in self.publishers
                     if p.impl is not None and p.impl.connections)
-        with self._lock:                   # the step thread snapshots the counts under it
-            self._counts[self._index] = count
+        with self._face.connections_lock:   # the step thread snapshots the counts under it
+            self.count = count
+            if self.index >= 0:
+                self._face.connections[self.index] = count
 
     def peer_subscribe(self, topic_name, topic_publish, peer_publish):
         self._recount()
@@ -48,9 +53,9 @@ class _ConnectionCounter(rospy.SubscribeListener):
 class _Robot:
     """One robot's publishers and subscribers."""
 
-    def __init__(self, face, index, name):
+    def __init__(self, face, name):
         profile = face.profile
-        listener = _ConnectionCounter(face.connections, index, face.connections_lock)
+        listener = self.counter = _ConnectionCounter(face)
 
         def publisher(role, msg_class):
             pub = synchronous_publisher(profile.topic(name, role), msg_class,
@@ -65,7 +70,14 @@ class _Robot:
         self.scan = publisher("scan", LaserScan) if profile.publishes_scan else None
         self.scan_frame = profile.frame(name, names.LASER_FRAME)
         self.cmd_vel = rospy.Subscriber(profile.topic(name, "cmd_vel"), Twist, face.on_cmd_vel,
-                                        index, queue_size=10)
+                                        name, queue_size=10)
+        self.outputs = []
+
+    def close(self):
+        """The robot was removed: its topics go (the counter was detached first)."""
+        self.cmd_vel.unregister()
+        for pub in self.counter.publishers:
+            pub.unregister()
 
 
 class EpuckFace:
@@ -75,15 +87,38 @@ class EpuckFace:
         self.scaling = cmd_vel_scaling
         self.publish_ground_truth = publish_ground_truth
         self.gravity_sign = GRAVITY_SIGN[accel_sign]
-        self.connections = np.zeros(sim.size, dtype=np.int64)
+        self.connections = np.zeros(0, dtype=np.int64)
         self.connections_lock = threading.Lock()
-        self.robots = [_Robot(self, i, name) for i, name in enumerate(sim.robot_names)]
+        self.robots = []
+        self._by_name = {}
         self._sensor_yaws = [s.yaw_rad for s in sim.model.sensors]
         self._max_range = profile.range.max_range_m
         self._min_range = profile.range.min_range_m
+        self.sync()
+
+    def sync(self):
+        """Follow the simulation's robots (between steps): topics for each new robot, none for
+        each removed one, the rows and message layouts of the ones there are now."""
+        names = self.sim.robot_names
+        gone = [r for name, r in self._by_name.items() if name not in names]
+        by_name = {name: self._by_name.get(name) or _Robot(self, name) for name in names}
+        with self.connections_lock:
+            for robot in gone:
+                robot.counter.index = -1
+            self.robots = [by_name[name] for name in names]
+            for i, robot in enumerate(self.robots):
+                robot.counter.index = i
+            self.connections = np.array([r.counter.count for r in self.robots], dtype=np.int64)
+        self._by_name = by_name
+        for robot in gone:
+            robot.close()
+        self._lay_out(names)
+
+    def _lay_out(self, robots):
+        """The pre-serialised messages of every robot, in row order."""
+        profile = self.profile
         frame = profile.frame
         rng = profile.range
-        robots = sim.robot_names
         self._range_batch = wire.range_batch(
             [frame(r, names.PROX_FRAME_FORMAT.format(i=k))
              for r in robots for k in range(names.PROXIMITY_COUNT)],
@@ -108,13 +143,13 @@ class EpuckFace:
         return out
 
     # --- commands ------------------------------------------------------------------------
-    def on_cmd_vel(self, msg, index):
+    def on_cmd_vel(self, msg, name):
         model = self.sim.model
         wheels = commands.wheel_speeds(self.scaling, msg.linear.x, msg.angular.z,
                                        model.wheel_radius_m, model.wheel_separation_m)
-        if wheels is None or not self.sim.set_wheel_speeds(index, *wheels):
+        if wheels is None or not self.sim.set_wheel_speeds(name, *wheels):
             rospy.logwarn_throttle(
-                5.0, f"{self.sim.robot_names[index]}: cmd_vel with a non-finite value refused "
+                5.0, f"{name}: cmd_vel with a non-finite value refused "
                      f"(linear.x={msg.linear.x}, angular.z={msg.angular.z}); wheels unchanged")
 
     # --- per step ------------------------------------------------------------------------

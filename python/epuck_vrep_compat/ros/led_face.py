@@ -1,7 +1,9 @@
 """LEDs (``cmd_led`` in, latched ``led_state`` out) and the rviz markers of the scene.
 
 The markers are latched and ``frame_locked`` to each robot's base_link, so rviz moves them with
-TF and they are re-sent only when an LED changes.
+TF and they are re-sent only when an LED changes or the scene's objects change; every array
+starts with a DELETEALL, so a removed robot or obstacle leaves rviz too. LED states are kept by
+robot name, so :meth:`LedFace.sync` keeps them across other robots' removal.
 """
 import threading
 
@@ -22,47 +24,59 @@ class LedFace:
     def __init__(self, profile, sim):
         self.profile = profile
         self.sim = sim
-        n = sim.size
-        self.state = np.zeros((n, commands.LED_COUNT), dtype=np.uint8)
         self._lock = threading.Lock()
-        self._dirty = set(range(n))
-        self._markers_dirty = True
-        self._led_pubs = [rospy.Publisher(profile.topic(name, "led_state"), UInt8MultiArray,
-                                          queue_size=1, latch=True)
-                          for name in sim.robot_names]
-        self._subs = [rospy.Subscriber(profile.topic(name, "cmd_led"), UInt8MultiArray,
-                                       self._on_cmd_led, i, queue_size=10)
-                      for i, name in enumerate(sim.robot_names)]
+        self._robots = {}             # robot name -> _Leds
         self._markers = rospy.Publisher(MARKER_TOPIC, MarkerArray, queue_size=1, latch=True)
+        self.sync()
 
-    def _on_cmd_led(self, msg, index):
+    def sync(self):
+        """Follow the simulation's robots and objects (between steps): LED topics for new
+        robots (all LEDs off), none for removed ones; the markers are re-sent."""
+        names = self.sim.robot_names
         with self._lock:
-            result = commands.apply_led_command(self.profile.name, self.state[index],
+            gone = [leds for name, leds in self._robots.items() if name not in names]
+            self._robots = {name: self._robots.get(name) or _Leds(self, name) for name in names}
+            self._markers_dirty = True
+        for leds in gone:
+            leds.close()
+
+    def _on_cmd_led(self, msg, name):
+        with self._lock:
+            leds = self._robots.get(name)
+            if leds is None:
+                return                                  # the robot was removed
+            result = commands.apply_led_command(self.profile.name, leds.state,
                                                 bytearray(msg.data))
             if isinstance(result, str):
-                rospy.logwarn_throttle(5.0, f"{self.sim.robot_names[index]}: {result}; ignored")
+                rospy.logwarn_throttle(5.0, f"{name}: {result}; ignored")
                 return
-            self.state[index] = result
-            self._dirty.add(index)
+            leds.state = np.array(result, dtype=np.uint8)
+            leds.dirty = True
             self._markers_dirty = True
 
     def publish(self):
         """Called from the simulation thread after a step: re-send what changed."""
         with self._lock:
-            dirty, self._dirty = self._dirty, set()
+            changed = [(leds, leds.state.copy()) for leds in self._robots.values() if leds.dirty]
+            for leds, _ in changed:
+                leds.dirty = False
             markers_dirty, self._markers_dirty = self._markers_dirty, False
-            state = self.state.copy()
-        for i in sorted(dirty):
-            self._led_pubs[i].publish(UInt8MultiArray(data=bytes(state[i])))
+            state = {name: leds.state.copy() for name, leds in self._robots.items()}
+        for leds, values in changed:
+            leds.publisher.publish(UInt8MultiArray(data=bytes(values)))
         if markers_dirty:
             self._markers.publish(self._marker_array(state))
 
     def _marker_array(self, state):
+        """``state``: robot name -> its 10 LED values."""
         out = MarkerArray()
+        clear = Marker()
+        clear.action = Marker.DELETEALL
+        out.markers.append(clear)
         out.markers.extend(self._arena_markers())
         model = self.sim.model
         leds = led_positions()
-        for i, name in enumerate(self.sim.robot_names):
+        for name, values in state.items():
             frame = self.profile.frame(name, names.BASE_FRAME)
             body = _marker(frame, name, 0, Marker.CYLINDER,
                            (0, 0, 0.5 * model.body_height_m),
@@ -70,22 +84,39 @@ class LedFace:
                             model.body_height_m), ColorRGBA(0.9, 0.9, 0.85, 0.9))
             out.markers.append(body)
             for k, (x, y, z) in enumerate(leds[:9]):
-                color = _LED_ON if state[i][k] else _LED_OFF
+                color = _LED_ON if values[k] else _LED_OFF
                 out.markers.append(_marker(frame, name + "/leds", k, Marker.SPHERE, (x, y, z),
                                            (0.006, 0.006, 0.006), color))
         return out
 
     def _arena_markers(self):
         markers = []
-        for k, obj in enumerate(self.sim.registry.objects()):
+        for obj in self.sim.registry.objects():
             if obj.robot is not None or "size" not in obj.properties:
                 continue
             shape = Marker.CUBE if obj.properties["shape"] == "box" else Marker.CYLINDER
             r, g, b = obj.properties["color"]
-            markers.append(_marker(names.ODOM_FRAME, "arena", k, shape, obj.local_position,
-                                   obj.properties["size"], ColorRGBA(r, g, b, 1.0),
-                                   obj.local_quat))
+            markers.append(_marker(names.ODOM_FRAME, "arena", obj.handle, shape,
+                                   obj.local_position, obj.properties["size"],
+                                   ColorRGBA(r, g, b, 1.0), obj.local_quat))
         return markers
+
+
+class _Leds:
+    """One robot's LEDs: their state, its latched ``led_state`` and its ``cmd_led``."""
+
+    def __init__(self, face, name):
+        profile = face.profile
+        self.state = np.zeros(commands.LED_COUNT, dtype=np.uint8)
+        self.dirty = True
+        self.publisher = rospy.Publisher(profile.topic(name, "led_state"), UInt8MultiArray,
+                                         queue_size=1, latch=True)
+        self._subscriber = rospy.Subscriber(profile.topic(name, "cmd_led"), UInt8MultiArray,
+                                            face._on_cmd_led, name, queue_size=10)
+
+    def close(self):
+        self._subscriber.unregister()
+        self.publisher.unregister()
 
 
 def _marker(frame, ns, marker_id, shape, position, scale, color, quat=(0, 0, 0, 1)):

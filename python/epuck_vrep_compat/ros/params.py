@@ -98,12 +98,12 @@ def _read_noise(n: int, profile: str) -> NoiseSettings:
         robots = rospy.get_param("~robots", {})
         if not isinstance(robots, dict):
             raise ParamError("parameter '~robots' must be a mapping of robot name to overrides")
-        profile_names = {PROFILES[profile].robot_name(i): i for i in range(n)}
+        profile_names = {PROFILES[profile].robot_name(i) for i in range(n)}
         for name in robots:
             if name not in profile_names:
                 raise ParamError(f"parameter '~robots/{name}': no robot of that name "
                                  f"(robots are {PROFILES[profile].robot_name(0)}..)")
-            s.ir_per_robot[profile_names[name]] = _read_ir(f"robots/{name}/ir_noise/", s.ir)
+            s.ir_per_robot[name] = _read_ir(f"robots/{name}/ir_noise/", s.ir)
     except NoiseConfigError as e:
         raise ParamError(str(e)) from e
     s.wheel_slip_stddev = _get("wheel_slip_stddev", s.wheel_slip_stddev, float,

@@ -4,6 +4,10 @@ Faces: the e-puck topic profile (``EpuckFace``, ``TfFace``, ``CameraFace``, ``Le
 V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled streams).
 Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused),
 ``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
+
+Robots loaded, pasted or removed through ``/vrep`` change the simulation under the node's lock,
+between steps; the simulation then calls :meth:`SimulatorNode._on_robots_changed`, and every
+face follows before the next step.
 """
 import sys
 import threading
@@ -25,6 +29,7 @@ from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
 from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.tf_face import TfFace
 from epuck_vrep_compat.ros.vrep_face import VrepFace
+from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
 from epuck_vrep_compat.sim.simulation import Simulation
@@ -38,14 +43,15 @@ _IDLE_SLEEP_S = 0.002    # poll period while paused, stopped or waiting for a tr
 
 
 class SimulatorNode:
-    def __init__(self, params: SimParams):
+    def __init__(self, params: SimParams, models_dir: str = None):
+        """``models_dir``: the folder of the model files simRosLoadModel finds by name."""
         self.params = params
         scene = load_scene(params.world)
         profile = PROFILES[params.profile]
         names = [profile.robot_name(i) for i in range(params.n)]
         try:
             self.sim = Simulation(scene, names, params.step_s, params.seed, params.noise,
-                                  params.cmd_timeout_s, params.camera)
+                                  params.cmd_timeout_s, params.camera, profile.robot_name)
         except SceneError as e:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
         # Reentrant: a service holding it may stop the simulation, whose listeners reset it.
@@ -60,7 +66,10 @@ class SimulatorNode:
                                 params.publish_ground_truth)
         self.tf = TfFace(profile, self.sim)
         self.cameras = CameraFace(profile, self.sim)
-        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0), self._lock)
+        models = ModelLibrary(models_dir) if models_dir else None
+        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models),
+                             self._lock)
+        self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell_face import CellFace
@@ -110,6 +119,15 @@ class SimulatorNode:
             rospy.loginfo("simulation stopped: the scene is back at its start")
         elif state == RUNNING:
             rospy.loginfo("simulation started")
+
+    def _on_robots_changed(self):
+        """Robots or objects came or went (a /vrep service, under the lock): every face
+        follows now, so the next step publishes for exactly the robots there are."""
+        with self._lock:
+            for face in (self.epucks, self.tf, self.cameras, self.leds):
+                face.sync()
+        rospy.loginfo("scene changed: %d robot(s): %s", self.sim.size,
+                      ", ".join(self.sim.robot_names) or "none")
 
     # --- the loop ------------------------------------------------------------------------
     def _stamp(self):
@@ -179,10 +197,10 @@ def main():
                          "roscore, or start the simulator with roslaunch\n")
         return 1
     rospy.init_node(NODE_NAME)
-    default_world = rospkg.RosPack().get_path("epuck_vrep_compat") + "/worlds/arena.yaml"
+    package = rospkg.RosPack().get_path("epuck_vrep_compat")
     try:
-        params = read_params(default_world)
-        node = SimulatorNode(params)
+        params = read_params(package + "/worlds/arena.yaml")
+        node = SimulatorNode(params, package + "/models")
     except (ParamError, SceneError) as e:
         rospy.logfatal("epuck_sim cannot start: %s", e)
         time.sleep(0.5)          # let the log line reach /rosout

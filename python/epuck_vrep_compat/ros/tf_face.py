@@ -39,32 +39,35 @@ class TfFace:
     def __init__(self, profile, sim):
         self._profile = profile
         self._sim = sim
+        self.sync()
+
+    def sync(self):
+        """Lay out the frames of the robots there are now (after robots came or went)."""
+        profile, sim = self._profile, self._sim
         frames, translations, rotations = [], [], []
-        self._wheel_rows = []
-        n = sim.size
-        children = robot_child_frames(profile, sim, 0) if n else []
-        self.per_robot = 1 + len(children)
+        base_rows, wheel_rows = [], []
         for i, robot in enumerate(sim.robot_names):
             base = profile.frame(robot, names.BASE_FRAME)
+            base_rows.append(len(frames))
             frames.append((names.ODOM_FRAME, base))
             translations.append(np.zeros(3))
             rotations.append(np.array([0, 0, 0, 1.0]))
             for child, translation, quat in robot_child_frames(profile, sim, i):
                 if quat is None:
-                    self._wheel_rows.append(len(frames))
+                    wheel_rows.append(len(frames))
                     quat = np.array([0, 0, 0, 1.0])
                 frames.append((base, profile.frame(robot, child)))
                 translations.append(np.asarray(translation, dtype=float))
                 rotations.append(np.asarray(quat, dtype=float))
         self._wire = TransformBatchWire(frames)
-        self._translations = np.array(translations)
-        self._rotations = np.array(rotations)
-        self._base_rows = np.arange(n) * self.per_robot
-        self._wheel_rows = np.array(self._wheel_rows).reshape(n, 2)
+        self._translations = np.array(translations).reshape(-1, 3)
+        self._rotations = np.array(rotations).reshape(-1, 4)
+        self._base_rows = np.array(base_rows, dtype=np.intp)
+        self._wheel_rows = np.array(wheel_rows, dtype=np.intp).reshape(-1, 2)
         self.frames = frames
 
     def message(self, secs: int, nsecs: int):
-        """The step's TF message, or None for a scene without e-pucks."""
+        """This step's transforms of every robot; None while there is no robot."""
         if not self.frames:
             return None
         swarm = self._sim.swarm

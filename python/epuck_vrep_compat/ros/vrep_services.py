@@ -20,8 +20,6 @@ from epuck_vrep_compat.vrep.backend import VrepError
 NOT_ADVERTISED = ("simRosAppendStringSignal",)    # defined in vrep_common, never advertised
 WARN_PERIOD_S = 5.0                               # per service
 
-RUNTIME_OBJECTS = "adding or removing objects at run time is not supported yet"
-
 # Services for features this simulator does not have: "(no <what>)" in the error.
 UNSUPPORTED = {
     "simRosAuxiliaryConsoleOpen": "auxiliary consoles",
@@ -58,7 +56,6 @@ UNSUPPORTED = {
     "simRosSetUIButtonProperty": "custom UIs",
     "simRosSetUISlider": "custom UIs",
 }
-NOT_YET = ("simRosLoadModel", "simRosCopyPasteObjects", "simRosRemoveModel", "simRosRemoveObject")
 
 
 def advertised_names():
@@ -99,9 +96,7 @@ class VrepServices:
         self._services = []
         for name in advertised_names():
             handler = handlers.get(name)
-            if handler is None and name in NOT_YET:
-                handler = _refuse(RUNTIME_OBJECTS)
-            elif handler is None:
+            if handler is None:
                 what = UNSUPPORTED.get(name, "such feature")
                 handler = _refuse(f"{name} is not supported by this simulator (no {what})")
             service_class = getattr(vrep_common.srv, name)

@@ -1,5 +1,6 @@
 """``simRos*`` handlers for scene objects: handles, lists, parent/child, group data, poses,
-selection and object parameters (VP ``ROS_server.cpp``, one V-REP call each).
+selection, object parameters, and adding and removing models (VP ``ROS_server.cpp``, one
+V-REP call each).
 
 Every handler is ``handler(backend, req, errors) -> response``: it raises ``VrepError`` for
 V-REP's failure answer, or appends to ``errors`` what V-REP reports while still answering (an
@@ -117,7 +118,41 @@ def _set_object_parameter(backend, req, errors):
                     "simulator")
 
 
+def load_model(backend, req, errors):
+    """simLoadModel returns the base handle; the plugin reads it back as the last selected
+    object, so the new base ends up selected."""
+    parts = backend.load_model(req.fileName)
+    base = parts.root
+    backend.set_selection([base.handle])
+    rospy.loginfo("simRosLoadModel: '%s' loaded as robot %s (base '%s', handle %d)",
+                  req.fileName, base.robot, base.name, base.handle)
+    return srv.simRosLoadModelResponse(result=base.handle, baseHandle=base.handle)
+
+
+def copy_paste_objects(backend, req, errors):
+    """The result is how many objects were copied; the handles are every new object's."""
+    copied, handles = backend.copy_paste(req.objectHandles)
+    if handles:
+        rospy.loginfo("simRosCopyPasteObjects: %d robot(s) pasted: %s", copied, ", ".join(
+            backend.object_name(h) for h in handles if backend.parent(h) == vc.WORLD))
+    return srv.simRosCopyPasteObjectsResponse(result=copied, newObjectHandles=handles)
+
+
+def _remover(service, response_class, count):
+    """simRemoveObject answers 1, simRemoveModel the number of objects removed."""
+    def handler(backend, req, errors):
+        name = backend.object_name(req.handle)
+        removed = backend.remove_object(req.handle)
+        rospy.loginfo("%s: '%s' removed (%d objects)", service, name, len(removed))
+        return response_class(result=len(removed) if count else 1)
+    return handler
+
+
 HANDLERS = {
+    "simRosLoadModel": load_model,
+    "simRosCopyPasteObjects": copy_paste_objects,
+    "simRosRemoveModel": _remover("simRosRemoveModel", srv.simRosRemoveModelResponse, True),
+    "simRosRemoveObject": _remover("simRosRemoveObject", srv.simRosRemoveObjectResponse, False),
     "simRosGetObjectHandle": get_object_handle,
     "simRosGetObjects": get_objects,
     "simRosGetObjectParent": get_object_parent,

@@ -2,7 +2,9 @@
 
 Part names follow the V-REP model (``ePuck_leftJoint``, ``ePuck_proxSensor0``, ...); copies get
 V-REP's suffixes: robot 0 has none, robot k >= 1 has ``#k-1`` (``ePuck_leftJoint#0`` belongs to
-``ePuck1``), which is how the V-REP script derives the robot name from its suffix.
+``ePuck1``), which is how the V-REP script derives the robot name from its suffix. A model
+loaded or pasted while the simulation runs gets, as in V-REP, the suffix one above the largest
+suffix in the scene (:func:`next_robot_number`).
 The IR sensor mounts come from the C++ core's model, so they are defined once.
 """
 import numpy as np
@@ -30,6 +32,18 @@ def vrep_suffix(index: int) -> str:
     return "" if index == 0 else f"#{index - 1}"
 
 
+def suffix_number(name: str) -> int:
+    """V-REP's suffix number of an object name: k for ``name#k``, -1 for none."""
+    _, hash_mark, tail = name.rpartition("#")
+    return int(tail) if hash_mark and tail.isascii() and tail.isdigit() else -1
+
+
+def next_robot_number(object_names) -> int:
+    """The robot number k (suffix ``#k-1``) of a model added to a scene holding these names:
+    V-REP pastes a model with the suffix one above the largest one in the scene."""
+    return max((suffix_number(n) for n in object_names), default=-1) + 2
+
+
 def default_model() -> EpuckModel:
     return EpuckModel()
 
@@ -55,7 +69,8 @@ class RobotParts:
 
 def register_epuck(registry: reg.SceneRegistry, model: EpuckModel, index: int,
                    robot_name: str, root_pose_source, wheel_angle_source) -> RobotParts:
-    """Register robot ``index``'s objects; poses of the root and wheels come from the sources."""
+    """Register robot ``index``'s objects (suffix ``#index-1``); poses of the root and wheels
+    come from the sources. ValueError, with nothing registered, when a name is taken."""
     sfx = vrep_suffix(index)
     root = registry.add("ePuck" + sfx, reg.SHAPE, reg.WORLD, pose_source=root_pose_source,
                         robot=robot_name, part="root")
@@ -67,6 +82,16 @@ def register_epuck(registry: reg.SceneRegistry, model: EpuckModel, index: int,
         parts[key] = registry.add(stem + sfx, object_type, parent_handle, position, quat,
                                   robot=robot_name, part=key, **kwargs)
 
+    try:
+        _add_parts(add, model, wheel_angle_source)
+    except ValueError:            # a name already taken: leave nothing half-registered
+        registry.remove(root.handle)
+        raise
+    return RobotParts(root, parts)
+
+
+def _add_parts(add, model, wheel_angle_source):
+    """Every part but the root, in the V-REP model's order (which fixes the handles)."""
     add("base", "ePuck_base", reg.DUMMY)
     add("bodyElements", "ePuck_bodyElements", reg.SHAPE)
     for side, sign in (("left", 1.0), ("right", -1.0)):
@@ -83,7 +108,6 @@ def register_epuck(registry: reg.SceneRegistry, model: EpuckModel, index: int,
         add(f"dummy_proxSensor{i}", f"dummy_proxSensor{i}", reg.DUMMY, position, yaw_quat)
     add("camera", "ePuck_camera", reg.VISION_SENSOR, CAMERA_POSITION_M, _VISION_QUAT)
     add("ledLight", "ePuck_ledLight", reg.LIGHT, (0.0, 0.0, LED_Z_M))
-    return RobotParts(root, parts)
 
 
 def _wheel_pose_source(wheel_angle_source, column):

@@ -59,17 +59,22 @@ class Scene:
 
 
 def load_scene(path: str) -> Scene:
-    try:
-        with open(path, "r", encoding="utf-8") as f:
-            data = yaml.safe_load(f)
-    except OSError as e:
-        raise SceneError(f"cannot read scene file '{path}': {e.strerror}") from e
-    except yaml.YAMLError as e:
-        raise SceneError(f"scene file '{path}' is not valid YAML: {e}") from e
+    data = read_yaml(path, "scene file")
     scene = parse_scene(data if data is not None else {}, where=path,
                         base_dir=os.path.dirname(os.path.abspath(path)))
     scene.source = path
     return scene
+
+
+def read_yaml(path: str, what: str):
+    """The content of a YAML file; SceneError saying which ``what`` could not be read."""
+    try:
+        with open(path, "r", encoding="utf-8") as f:
+            return yaml.safe_load(f)
+    except OSError as e:
+        raise SceneError(f"cannot read {what} '{path}': {e.strerror}") from e
+    except yaml.YAMLError as e:
+        raise SceneError(f"{what} '{path}' is not valid YAML: {e}") from e
 
 
 def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:

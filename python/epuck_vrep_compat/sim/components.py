@@ -43,17 +43,19 @@ class WheelJoint:
     range_min = -math.pi
     range_span = -1.0          # V-REP's "cyclic" marker
 
-    def __init__(self, sim, robot_index: int, column: int):
+    def __init__(self, sim, robot_name: str, column: int):
         self._sim = sim
-        self._robot = robot_index
+        self._robot = robot_name
         self._column = column
         self.max_force = 0.0
 
     def position(self) -> float:
-        return wrap_angle(float(self._sim.swarm.wheel_angles[self._robot, self._column]))
+        row = self._sim.robot_index(self._robot)
+        return wrap_angle(float(self._sim.swarm.wheel_angles[row, self._column]))
 
     def velocity(self) -> float:
-        return float(self._sim.swarm.wheel_speeds[self._robot, self._column])
+        return float(self._sim.swarm.wheel_speeds[self._sim.robot_index(self._robot),
+                                                  self._column])
 
     def effort(self) -> float:
         return 0.0              # kinematic drive: no torque is computed
@@ -80,19 +82,21 @@ class ConeProximity:
 
     subtype = vc.PROXSENSOR_CONE
 
-    def __init__(self, sim, robot_index: int, sensor_index: int):
+    def __init__(self, sim, robot_name: str, sensor_index: int):
         self._sim = sim
-        self._robot = robot_index
+        self._robot = robot_name
         self._sensor = sensor_index
 
     def read(self):
-        """(detection state 0/1, point (3), detected object handle or -1, surface normal (3))."""
+        """(detection state 0/1, point (3), detected object handle or -1, surface normal (3)).
+        An object removed since the last step is not reported."""
         swarm = self._sim.swarm
-        handle = int(swarm.detected_handles[self._robot, self._sensor])
-        if handle < 0:
+        row = self._sim.robot_index(self._robot)
+        handle = int(swarm.detected_handles[row, self._sensor])
+        if handle < 0 or handle not in self._sim.registry:
             return 0, np.zeros(3), -1, np.zeros(3)
-        return (1, _core_to_vrep(swarm.detected_points[self._robot, self._sensor]), handle,
-                _core_to_vrep(swarm.detected_normals[self._robot, self._sensor]))
+        return (1, _core_to_vrep(swarm.detected_points[row, self._sensor]), handle,
+                _core_to_vrep(swarm.detected_normals[row, self._sensor]))
 
 
 def _core_to_vrep(v):

@@ -6,7 +6,7 @@ real robot in the paper's Table 1. The IR standard deviation (3 mm) and the gyro
 the paper shows the IR histogram but not its figures, and the e-puck 1 has no gyro.
 """
 from dataclasses import dataclass, field
-from typing import Dict
+from typing import Dict, Sequence
 
 import numpy as np
 
@@ -30,14 +30,15 @@ class NoiseSettings:
 
     enabled: bool = True
     ir: IrNoise = field(default_factory=IrNoise)
-    ir_per_robot: Dict[int, IrNoise] = field(default_factory=dict)
+    ir_per_robot: Dict[str, IrNoise] = field(default_factory=dict)     # by robot name
     accel_stddev_m_s2: np.ndarray = field(
         default_factory=lambda: np.array([0.03559, 0.03079, 0.04930]))
     gyro_stddev_rad_s: np.ndarray = field(default_factory=lambda: np.full(3, 0.005))
     wheel_slip_stddev: float = 0.05       # relative, per wheel per step
 
-    def apply(self, swarm, n: int):
-        """Write the settings into the core swarm's arrays."""
+    def apply(self, swarm, robot_names: Sequence[str]):
+        """Write the settings into the core swarm's arrays (one row per robot, in order)."""
+        n = len(robot_names)
         prob = np.zeros((n, IR_COUNT))
         mean = np.zeros((n, IR_COUNT))
         sd = np.zeros((n, IR_COUNT))
@@ -45,8 +46,8 @@ class NoiseSettings:
         gyro = np.zeros((n, 3))
         slip = np.zeros(n)
         if self.enabled:
-            for i in range(n):
-                ir = self.ir_per_robot.get(i, self.ir)
+            for i, name in enumerate(robot_names):
+                ir = self.ir_per_robot.get(name, self.ir)
                 prob[i], mean[i], sd[i] = ir.probability, ir.mean_m, ir.stddev_m
             accel[:] = self.accel_stddev_m_s2
             gyro[:] = self.gyro_stddev_rad_s

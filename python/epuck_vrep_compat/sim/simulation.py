@@ -2,24 +2,31 @@
 
 ROS-free. The ROS faces read its state after each step and write commands into it; data flows
 one way per step (commands -> core step -> sensor arrays -> adapters).
+
+Robots and scene objects can be added and removed between steps, by a caller that holds the
+simulation lock (the core is not thread-safe); afterwards every listener is called, so the
+faces follow. Robot rows (``robot_names``, ``robots``, ``start_poses``, the command arrays and
+the core's outputs) stay in step: a removal shifts the later rows up by one. Handles never
+change: a removed object's handle is never given again. Commands arrive on other threads by
+robot name, and find the robot's row under a lock of their own.
 """
 import math
+import threading
 from dataclasses import dataclass
-from typing import List, Sequence
+from typing import Callable, List, Sequence
 
 import numpy as np
 
-from epuck_vrep_compat._core import (
-    GROUP_FLOOR, GROUP_STATIC, CollisionWorld, EpuckSwarm)
+from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
 from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.epuck_model import RobotParts, default_model, register_epuck
-from epuck_vrep_compat.scene.placement import place_robots
+from epuck_vrep_compat.scene.epuck_model import (
+    RobotParts, default_model, next_robot_number, register_epuck)
+from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
+from epuck_vrep_compat.sim.arena import build_arena
 from epuck_vrep_compat.sim.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
 from epuck_vrep_compat.sim.noise import NoiseSettings
-
-FLOOR_THICKNESS_M = 0.01
 
 
 @dataclass
@@ -33,111 +40,160 @@ class RobotCommand:
 class Simulation:
     def __init__(self, scene: Scene, robot_names: Sequence[str], step_s: float = 0.05,
                  seed: int = 0, noise: NoiseSettings = None, cmd_timeout_s: float = 1.0,
-                 camera: CameraSpec = None):
+                 camera: CameraSpec = None, robot_namer: Callable[[int], str] = None):
+        """``robot_namer`` names robot number k (suffix ``#k-1``) added later; by default
+        ``ePuck<k>``, as the V-REP model's script."""
         if step_s <= 0.0 or not math.isfinite(step_s):
             raise ValueError(f"step_s must be a positive number, got {step_s}")
         self.scene = scene
         self.step_s = float(step_s)
         self.seed = int(seed)
         self.cmd_timeout_s = float(cmd_timeout_s)
-        self.robot_names: List[str] = list(robot_names)
         self.camera = camera if camera is not None else CameraSpec()
+        self.robot_namer = robot_namer if robot_namer is not None else "ePuck{}".format
         self.model = default_model()
         self.registry = reg.SceneRegistry()
         self.world = CollisionWorld()
-        self._build_arena()
+        self.obstacles = build_arena(scene, self.registry, self.world)
         self.swarm = EpuckSwarm(self.world, self.model, self.seed)
         self.robots: List[RobotParts] = []
-        self._index_by_name = {name: i for i, name in enumerate(self.robot_names)}
-        self.start_poses = place_robots(scene, len(self.robot_names), self.model.body_radius_m)
-        for i, name in enumerate(self.robot_names):
-            parts = register_epuck(self.registry, self.model, i, name,
-                                   self._root_pose_source(i), self._wheel_angle_source(i))
-            x, y, yaw = self.start_poses[i]
-            self.swarm.add_robot(parts.root.handle, x, y, yaw)
-            self.swarm.set_odometry(i, x, y, yaw)
-            self._attach_components(i, parts)
-            self.robots.append(parts)
-        n = len(self.robot_names)
-        self.command = RobotCommand(np.zeros((n, 2)), np.full(n, -np.inf))
+        self.robot_names: List[str] = []
+        self.start_poses = []
+        self._index_by_name = {}
+        self._commands_lock = threading.Lock()
+        self.command = RobotCommand(np.zeros((0, 2)), np.zeros(0))
+        self.listeners: List[Callable[[], None]] = []
+        starts = place_robots(scene, len(robot_names), self.model.body_radius_m)
+        for number, (name, pose) in enumerate(zip(robot_names, starts)):
+            self._add(number, name, pose)
         self.noise = noise if noise is not None else NoiseSettings()
-        self.noise.apply(self.swarm, n)
+        self.noise.apply(self.swarm, self.robot_names)
         self.frame = 0
-        self._poses = self.swarm.poses
-        self._wheel_angles = self.swarm.wheel_angles
+        self._refresh()
         self.cell = None
         if scene.cell is not None:
             from epuck_vrep_compat.cell.cell import Cell     # pybullet only when a cell is used
             self.cell = Cell(self, scene.cell, self.seed)
 
-    # --- construction -----------------------------------------------------------------------
-    def _build_arena(self):
-        arena = self.scene.arena
-        sx, sy = arena.size_m
-        h, t = arena.wall_height_m, arena.wall_thickness_m
-        self._add_box(arena.floor_name, (sx + 2 * t, sy + 2 * t, FLOOR_THICKNESS_M),
-                      (0.0, 0.0, -0.5 * FLOOR_THICKNESS_M), 0.0, arena.floor_color, GROUP_FLOOR)
-        walls = (((sx + 2 * t, t, h), (0.0, 0.5 * (sy + t))),
-                 ((sx + 2 * t, t, h), (0.0, -0.5 * (sy + t))),
-                 ((t, sy, h), (0.5 * (sx + t), 0.0)),
-                 ((t, sy, h), (-0.5 * (sx + t), 0.0)))
-        for k, (size, (x, y)) in enumerate(walls):
-            self._add_box(f"Wall{k}", size, (x, y, 0.5 * h), 0.0, arena.wall_color, GROUP_STATIC)
-        for o in self.scene.obstacles:
-            x, y = o.position_m
-            if o.shape == "box":
-                self._add_box(o.name, o.size_m, (x, y, 0.5 * o.size_m[2]), o.yaw_rad, o.color,
-                              GROUP_STATIC)
-            else:
-                quat = quat_from_yaw(o.yaw_rad)
-                size = (2.0 * o.radius_m, 2.0 * o.radius_m, o.height_m)
-                obj = self.registry.add(o.name, reg.SHAPE, reg.WORLD, (x, y, 0.5 * o.height_m),
-                                        quat, properties=dict(shape="cylinder", size=size,
-                                                              color=o.color))
-                self.world.add_cylinder(obj.handle, o.radius_m, o.height_m,
-                                        obj.local_position, quat, o.color, GROUP_STATIC)
+    # --- robots and objects added and removed ---------------------------------------------
+    def add_robot(self, near_xy=(0.0, 0.0), yaw_rad: float = 0.0) -> RobotParts:
+        """A new e-puck at the free place nearest ``near_xy``, named as V-REP names a pasted
+        model (:func:`next_robot_number`). SceneError when no place is free."""
+        number = next_robot_number(o.name for o in self.registry.objects())
+        name = self.robot_namer(number)
+        if name in self._index_by_name:
+            raise ValueError(f"a robot named '{name}' exists already")
+        occupied = np.vstack((self.swarm.poses[:, :2],
+                              np.reshape(self.start_poses, (-1, 3))[:, :2]))
+        x, y = free_place(self.scene, self.live_obstacles(), occupied,
+                          self.model.body_radius_m, near_xy)
+        parts = self._add(number, name, (x, y, float(yaw_rad)))
+        self.noise.apply(self.swarm, self.robot_names)
+        self._changed()
+        return parts
 
-    def _add_box(self, name, size, position, yaw, color, group):
-        quat = quat_from_yaw(yaw)
-        obj = self.registry.add(name, reg.SHAPE, reg.WORLD, position, quat,
-                                properties=dict(shape="box", size=tuple(size), color=color))
-        self.world.add_box(obj.handle, 0.5 * np.asarray(size, dtype=float),
-                           np.asarray(position, dtype=float), quat, color, group)
+    def remove_robot(self, name: str) -> List[int]:
+        """Remove a robot with all its objects; returns their handles. KeyError if unknown."""
+        index = self._index_by_name[name]
+        parts = self.robots[index]
+        with self._commands_lock:
+            del self.robots[index], self.robot_names[index], self.start_poses[index]
+            self._index_by_name = {n: i for i, n in enumerate(self.robot_names)}
+            self.command = RobotCommand(np.delete(self.command.wheel_rad_s, index, axis=0),
+                                        np.delete(self.command.stamp_s, index))
+        self.swarm.remove_robot(index)
+        removed = self.registry.remove(parts.root.handle)
+        self._changed()
+        return removed
 
-    def _attach_components(self, i, parts):
+    def remove_object(self, handle: int) -> List[int]:
+        """Remove a scene object (with its children) or, for a robot's base object, the whole
+        robot; returns the removed handles. KeyError for an unknown handle; ValueError for a
+        part of a robot (a robot is removed whole)."""
+        obj = self.registry.get(handle)
+        if obj.robot is not None:
+            if obj.part != "root":
+                base = self.robots[self._index_by_name[obj.robot]].root.name
+                raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; remove the "
+                                 f"robot's base object '{base}' instead")
+            return self.remove_robot(obj.robot)
+        removed = self.registry.remove(handle)
+        for h in removed:
+            if self.world.has(h):
+                self.world.remove(h)
+        self._changed()
+        return removed
+
+    def live_obstacles(self):
+        """The scene's obstacles that have not been removed."""
+        return [o for o, handle in self.obstacles if handle in self.registry]
+
+    def _add(self, number, name, pose) -> RobotParts:
+        x, y, yaw = pose
+        parts = register_epuck(self.registry, self.model, number, name,
+                               self._root_pose_source(name), self._wheel_angle_source(name))
+        self.swarm.add_robot(parts.root.handle, x, y, yaw)
+        index = self.swarm.size - 1
+        self.swarm.set_odometry(index, x, y, yaw)
+        self._attach_components(name, parts)
+        with self._commands_lock:
+            self.robots.append(parts)
+            self.robot_names.append(name)
+            self.start_poses.append((x, y, yaw))
+            self._index_by_name[name] = index
+            self.command = RobotCommand(np.vstack((self.command.wheel_rad_s, np.zeros((1, 2)))),
+                                        np.append(self.command.stamp_s, -np.inf))
+        return parts
+
+    def _attach_components(self, name, parts):
         for column, side in enumerate(("left", "right")):
-            parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(self, i, column)
+            parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(self, name, column)
         for k in range(len(self.model.sensors)):
-            parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(self, i, k)
+            parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(self, name, k)
         parts.parts["camera"].properties["vision"] = VisionSensor(
             self, parts.handle("camera"), self.camera, ignore_handle=parts.root.handle)
 
-    def _root_pose_source(self, i):
+    def _root_pose_source(self, name):
         def pose():
-            x, y, yaw = self._poses[i]
+            x, y, yaw = self._poses[self._index_by_name[name]]
             return np.array([x, y, 0.0]), quat_from_yaw(yaw)
         return pose
 
-    def _wheel_angle_source(self, i):
-        return lambda: self._wheel_angles[i]
+    def _wheel_angle_source(self, name):
+        return lambda: self._wheel_angles[self._index_by_name[name]]
+
+    def _changed(self):
+        self._refresh()
+        for listener in list(self.listeners):
+            listener()
+
+    def _refresh(self):
+        self._poses = self.swarm.poses
+        self._wheel_angles = self.swarm.wheel_angles
 
     # --- commands (from the ROS faces) --------------------------------------------------------
     def robot_index(self, name: str) -> int:
         """Index of a robot by name; -1 when there is no such robot."""
         return self._index_by_name.get(name, -1)
 
-    def set_wheel_speeds(self, index: int, left_rad_s: float, right_rad_s: float) -> bool:
-        """Command a robot's wheels; non-finite values are refused (returns False)."""
+    def set_wheel_speeds(self, name: str, left_rad_s: float, right_rad_s: float) -> bool:
+        """Command a robot's wheels; non-finite values are refused (returns False). A robot
+        that no longer exists ignores it."""
         if not (math.isfinite(left_rad_s) and math.isfinite(right_rad_s)):
             return False
-        self.command.wheel_rad_s[index] = (left_rad_s, right_rad_s)
-        self.command.stamp_s[index] = self.time_s
+        with self._commands_lock:
+            index = self._index_by_name.get(name)
+            if index is not None:
+                self.command.wheel_rad_s[index] = (left_rad_s, right_rad_s)
+                self.command.stamp_s[index] = self.time_s
         return True
 
-    def set_wheel_speed(self, index: int, column: int, rad_s: float):
+    def set_wheel_speed(self, name: str, column: int, rad_s: float):
         """One wheel's speed, as a joint command: it persists (no cmd_vel watchdog)."""
-        self.command.wheel_rad_s[index, column] = rad_s
-        self.command.stamp_s[index] = np.inf
+        with self._commands_lock:
+            index = self._index_by_name[name]
+            self.command.wheel_rad_s[index, column] = rad_s
+            self.command.stamp_s[index] = np.inf
 
     def move_object(self, obj, position, quat):
         """Teleport a robot (its base object: x, y and yaw; robots stay on the ground) or a
@@ -152,7 +208,7 @@ class Simulation:
             i = self._index_by_name[obj.robot]
             self.swarm.set_pose(i, float(position[0]), float(position[1]),
                                 float(yaw_of(quat)))
-            self._poses = self.swarm.poses
+            self._refresh()
             return
         obj.local_position = np.asarray(position, dtype=float)
         obj.local_quat = np.asarray(quat, dtype=float)
@@ -186,18 +242,18 @@ class Simulation:
         self.frame += 1
         if self.cell is not None:
             self.cell.step(self.step_s)
-        self._poses = self.swarm.poses
-        self._wheel_angles = self.swarm.wheel_angles
+        self._refresh()
 
     def reset(self):
-        """Robots back to their start poses, commands cleared, noise streams restarted."""
+        """Robots back to their start poses (a robot added later: where it was placed),
+        commands cleared, noise streams restarted."""
         for i, (x, y, yaw) in enumerate(self.start_poses):
             self.swarm.set_pose(i, x, y, yaw)
             self.swarm.set_odometry(i, x, y, yaw)
-        self.command.wheel_rad_s[:] = 0.0
-        self.command.stamp_s[:] = -np.inf
+        with self._commands_lock:
+            self.command.wheel_rad_s[:] = 0.0
+            self.command.stamp_s[:] = -np.inf
         self.swarm.reseed(self.seed)
-        self._poses = self.swarm.poses
-        self._wheel_angles = self.swarm.wheel_angles
+        self._refresh()
         if self.cell is not None:
             self.cell.reset()

@@ -16,6 +16,7 @@ from epuck_vrep_compat.sim.components import ComponentError
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.errors import VrepError
+from epuck_vrep_compat.vrep.models import VrepModels
 from epuck_vrep_compat.vrep.parameters import VrepParameters
 
 MAX_ERRORS = 50            # the plugin keeps the last 50
@@ -35,11 +36,13 @@ class ErrorLog:
         return errors
 
 
-class VrepBackend(VrepParameters):
-    def __init__(self, sim, control, real_time: bool):
+class VrepBackend(VrepParameters, VrepModels):
+    def __init__(self, sim, control, real_time: bool, models=None):
+        """``models``: the ModelLibrary simLoadModel reads (None: loading always fails)."""
         self.sim = sim
         self.control = control
         self.real_time = real_time
+        self.models = models
         self.errors = ErrorLog()
         self.signals = {"int": {}, "float": {}, "string": {}}
         self._selection = []

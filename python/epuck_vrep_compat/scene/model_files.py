@@ -1,0 +1,108 @@
+"""Model files: what ``simRosLoadModel`` can load, and how a V-REP file name finds one.
+
+A model file is a small YAML file (see ``models/ePuck.yaml``): ``robot`` (the model it
+instantiates; ``epuck`` is the only one), ``aliases`` (other file names that load it, e.g.
+V-REP's ``e-puck.ttm``), ``position_m`` and ``yaw_rad`` (the robot goes to the free place
+nearest to that point). A request names a model by
+
+* the path of a model file (``.yaml``) anywhere, or
+* a file name whose last component, ``<stem>`` or ``<stem>.ttm`` or ``<stem>.yaml``, names the
+  file ``<stem>.yaml`` of the library folder, or is one of a library file's aliases. V-REP
+  clients pass paths of ``.ttm`` files (``models/robots/mobile/e-puck.ttm``); their folders do
+  not matter here.
+
+Anything else raises :class:`ModelFileError` with the reason.
+"""
+import os
+from dataclasses import dataclass
+from typing import Tuple
+
+from epuck_vrep_compat.scene.scene_file import SceneError, _number, _numbers, _only, read_yaml
+
+ROBOTS = ("epuck",)
+_EXTENSIONS = (".ttm", ".yaml")
+
+
+class ModelFileError(ValueError):
+    """A model that cannot be loaded; the message says why."""
+
+
+@dataclass(frozen=True)
+class ModelFile:
+    path: str
+    robot: str = "epuck"
+    position_m: Tuple[float, float] = (0.0, 0.0)
+    yaw_rad: float = 0.0
+
+
+class ModelLibrary:
+    """The model files of one folder (the package's ``models/``), read when asked for."""
+
+    def __init__(self, directory: str):
+        self.directory = directory
+
+    def resolve(self, file_name: str) -> ModelFile:
+        if not file_name.strip():
+            raise ModelFileError("the model file name is empty")
+        if file_name.endswith(".yaml") and os.path.isfile(file_name):
+            return read_model_file(file_name)
+        base = file_name.replace("\\", "/").rsplit("/", 1)[-1]
+        stem = next((base[:-len(e)] for e in _EXTENSIONS if base.endswith(e)), base)
+        own = os.path.join(self.directory, stem + ".yaml")
+        if stem and os.path.isfile(own):
+            return read_model_file(own)
+        for path in self._files():
+            if base in _aliases(path):
+                return read_model_file(path)
+        known = ", ".join(self.names()) or "none"
+        raise ModelFileError(f"model file '{file_name}' is not known (models: {known})")
+
+    def names(self):
+        """Every name that loads a model of the library, for messages and the README."""
+        out = []
+        for path in self._files():
+            stem = os.path.basename(path)[:-len(".yaml")]
+            out += [stem + ".ttm"] + list(_aliases(path))
+        return out
+
+    def _files(self):
+        try:
+            entries = sorted(os.listdir(self.directory))
+        except OSError:
+            return []
+        return [os.path.join(self.directory, e) for e in entries if e.endswith(".yaml")]
+
+
+def read_model_file(path: str) -> ModelFile:
+    data = _load(path)
+    try:
+        _only(data, {"robot", "aliases", "position_m", "yaw_rad"}, path)
+        robot = data.get("robot")
+        if robot not in ROBOTS:
+            raise SceneError(f"{path}: robot must be one of {list(ROBOTS)}, got {robot!r}")
+        aliases = data.get("aliases", [])
+        if not isinstance(aliases, list) or not all(isinstance(a, str) for a in aliases):
+            raise SceneError(f"{path}: aliases must be a list of file names, got {aliases!r}")
+        position = tuple(_numbers(data.get("position_m", [0.0, 0.0]), 2, f"{path}: position_m"))
+        yaw = _number(data.get("yaw_rad", 0.0), f"{path}: yaw_rad")
+    except SceneError as e:
+        raise ModelFileError(str(e)) from None
+    return ModelFile(path, robot, position, yaw)
+
+
+def _aliases(path: str):
+    try:
+        aliases = _load(path).get("aliases", [])
+    except ModelFileError:
+        return ()                  # a broken file loads under its own name only (and fails)
+    return tuple(a for a in aliases if isinstance(a, str)) if isinstance(aliases, list) else ()
+
+
+def _load(path: str) -> dict:
+    try:
+        data = read_yaml(path, "model file")
+    except SceneError as e:
+        raise ModelFileError(str(e)) from None
+    if not isinstance(data, dict):
+        raise ModelFileError(f"model file '{path}': the top level must be a mapping")
+    return data

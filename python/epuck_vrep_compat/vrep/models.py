@@ -1,0 +1,64 @@
+"""V-REP's calls that add and remove objects while the simulation runs: simLoadModel,
+simCopyPasteObjects, simRemoveModel and simRemoveObject, on our scene.
+
+A mixin of :class:`~epuck_vrep_compat.vrep.backend.VrepBackend`: it reads ``self.sim`` and
+``self.models`` (a :class:`~epuck_vrep_compat.scene.model_files.ModelLibrary`, or None) and
+resolves objects with ``self._object``. What can be added is a whole robot (a model file, or a
+copy of a robot's base object); what can be removed is a whole robot (through its base object)
+or a static scene object. A new robot is named as V-REP names a pasted model (the scene's
+largest suffix plus one) and placed where it touches nothing. Failures raise
+:class:`VrepError` and change nothing.
+"""
+from epuck_vrep_compat.scene.model_files import ModelFileError
+from epuck_vrep_compat.vrep.errors import VrepError
+
+
+class VrepModels:
+    def load_model(self, file_name: str):
+        """simLoadModel: the new robot's parts (base object first)."""
+        if self.models is None:
+            raise VrepError("this simulator was started without a model folder")
+        try:
+            model = self.models.resolve(file_name)
+        except ModelFileError as e:
+            raise VrepError(str(e)) from None
+        return self._add_robot(model.position_m, model.yaw_rad, f"model '{file_name}'")
+
+    def copy_paste(self, handles):
+        """simCopyPasteObjects: each handle must be a robot's base object, and each such robot
+        gets a copy beside it. Returns (objects copied, handles of every new object)."""
+        unique = list(dict.fromkeys(int(h) for h in handles))
+        bases = [self._robot_base(h, "copied") for h in unique]
+        added = []
+        try:
+            for base in bases:
+                x, y, yaw = self.sim.swarm.poses[self.sim.robot_index(base.robot)]
+                added.append(self._add_robot((x, y), yaw, f"copy of '{base.name}'"))
+        except VrepError:
+            for parts in added:                 # all or nothing
+                self.sim.remove_robot(parts.root.robot)
+            raise
+        return len(unique), [obj.handle for parts in added for obj in parts.parts.values()]
+
+    def remove_object(self, handle: int):
+        """simRemoveObject and simRemoveModel: a robot's base object takes the whole robot with
+        it; a static scene object leaves the collision world. Returns the removed handles."""
+        obj = self._object(handle)
+        try:
+            return self.sim.remove_object(obj.handle)
+        except ValueError as e:
+            raise VrepError(str(e)) from None
+
+    def _robot_base(self, handle: int, what: str):
+        obj = self._object(handle)
+        if obj.robot is None or obj.part != "root":
+            owner = f"a part of robot {obj.robot}" if obj.robot else "a static scene object"
+            raise VrepError(f"object {handle} ('{obj.name}') is {owner}, not a robot's base "
+                            f"object: only whole robots can be {what}")
+        return obj
+
+    def _add_robot(self, near_xy, yaw_rad, what):
+        try:
+            return self.sim.add_robot(near_xy, float(yaw_rad))
+        except ValueError as e:                 # SceneError: the arena is full
+            raise VrepError(f"{what} not added: {e}") from None
