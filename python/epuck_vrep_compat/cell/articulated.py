@@ -12,12 +12,13 @@ sent to pybullet at the start of the next step: data flows one way per step.
 """
 import math
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Dict, List, Optional
 
 import numpy as np
 import pybullet as pb
 
+from epuck_vrep_compat.cell.kinematics import Joint, load_urdf_chain
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
     IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_rpy, quat_from_yaw,
@@ -27,6 +28,7 @@ from epuck_vrep_compat.vrep import constants as vc
 
 POSITION = "position"
 VELOCITY = "velocity"
+DEFAULT_EFFORT = 100.0        # N m or N, for a joint whose URDF gives no effort
 # youBot mecanum base: wheel radius and half wheel base + half track (models.md 4.1)
 WHEELS = ("fl", "rl", "rr", "fr")
 WHEEL_RADIUS_M = 0.0475
@@ -41,30 +43,8 @@ class Collision:
     quat: np.ndarray
 
 
-@dataclass
-class UrdfJoint:
-    name: str
-    kind: str                    # revolute | continuous | prismatic | fixed
-    parent: str
-    child: str
-    position: np.ndarray
-    quat: np.ndarray
-    axis: np.ndarray
-    lower: float = -math.pi
-    upper: float = math.pi
-    velocity: float = 1.0
-    effort: float = 100.0
-
-
-@dataclass
-class UrdfModel:
-    root: str
-    joints: List[UrdfJoint]
-    collisions: Dict[str, List[Collision]] = field(default_factory=dict)
-
-
 def _origin(element):
-    o = element.find("origin") if element is not None else None
+    o = element.find("origin")
     if o is None:
         return np.zeros(3), IDENTITY_QUAT.copy()
     xyz = np.array([float(v) for v in o.get("xyz", "0 0 0").split()])
@@ -72,11 +52,10 @@ def _origin(element):
     return xyz, quat_from_rpy(*rpy)
 
 
-def parse_urdf(path: str) -> UrdfModel:
-    """The parts of a URDF the cell needs: joints in file order and collision primitives."""
-    root = ET.parse(path).getroot()
+def parse_collisions(path: str) -> Dict[str, List[Collision]]:
+    """Each link's collision primitives (the joints come from :func:`load_urdf_chain`)."""
     collisions = {}
-    for link in root.findall("link"):
+    for link in ET.parse(path).getroot().findall("link"):
         shapes = []
         for c in link.findall("collision"):
             geometry = c.find("geometry")
@@ -94,27 +73,7 @@ def parse_urdf(path: str) -> UrdfModel:
                 raise ValueError(f"{path}: link '{link.get('name')}' has a collision geometry "
                                  "other than box, cylinder or sphere")
         collisions[link.get("name")] = shapes
-    joints = []
-    for j in root.findall("joint"):
-        position, quat = _origin(j)
-        axis = j.find("axis")
-        limit = j.find("limit")
-        joint = UrdfJoint(j.get("name"), j.get("type"), j.find("parent").get("link"),
-                          j.find("child").get("link"), position, quat,
-                          np.array([float(v) for v in axis.get("xyz").split()])
-                          if axis is not None else np.array([1.0, 0.0, 0.0]))
-        if limit is not None:
-            joint.lower = float(limit.get("lower", joint.lower))
-            joint.upper = float(limit.get("upper", joint.upper))
-            joint.velocity = float(limit.get("velocity", joint.velocity))
-            # an explicit effort of 0 marks a passive joint (no motor), e.g. a mecanum roller
-            joint.effort = float(limit.get("effort", joint.effort))
-        joints.append(joint)
-    children = {j.child for j in joints}
-    roots = [name for name in collisions if name not in children]
-    if len(roots) != 1:
-        raise ValueError(f"{path}: expected one root link, found {roots}")
-    return UrdfModel(roots[0], joints, collisions)
+    return collisions
 
 
 def _z_to_axis(axis):
@@ -134,15 +93,20 @@ class ArmJoint:
 
     mode = vc.JOINTMODE_FORCE
 
-    def __init__(self, robot, index: int, urdf: UrdfJoint):
+    def __init__(self, robot, index: int, urdf: Joint):
         self._robot = robot
         self.index = index                     # among the robot's movable joints
-        self.urdf = urdf
-        self.cyclic = urdf.kind == "continuous"
-        self.joint_type = vc.JOINT_PRISMATIC if urdf.kind == "prismatic" else vc.JOINT_REVOLUTE
-        self.range_min = -math.pi if self.cyclic else urdf.lower
-        self.range_span = -1.0 if self.cyclic else urdf.upper - urdf.lower
-        self.max_force = urdf.effort
+        self.name = urdf.name
+        self.cyclic = urdf.joint_type == "continuous"
+        self.prismatic = urdf.joint_type == "prismatic"
+        self.joint_type = vc.JOINT_PRISMATIC if self.prismatic else vc.JOINT_REVOLUTE
+        limits = urdf.limits
+        self.lower, self.upper = limits.lower, limits.upper
+        self.max_velocity = limits.velocity
+        self.range_min = -math.pi if self.cyclic else self.lower
+        self.range_span = -1.0 if self.cyclic else self.upper - self.lower
+        # an explicit effort of 0 marks a passive joint (no motor), e.g. a mecanum roller
+        self.max_force = limits.effort if math.isfinite(limits.effort) else DEFAULT_EFFORT
 
     def position(self) -> float:
         q = float(self._robot.q[self.index])
@@ -159,7 +123,7 @@ class ArmJoint:
             raise ComponentError(f"{what} {value} is not finite")
 
     def _clamped(self, value):
-        return value if self.cyclic else min(max(value, self.urdf.lower), self.urdf.upper)
+        return value if self.cyclic else min(max(value, self.lower), self.upper)
 
     def set_target_position(self, value: float):
         self._finite("target position", value)
@@ -187,7 +151,8 @@ class ArticulatedRobot:
     def __init__(self, client: int, spec, registry: reg.SceneRegistry):
         self.client = client
         self.spec = spec
-        self.model = parse_urdf(spec.urdf)
+        self.chain = load_urdf_chain(spec.urdf)
+        self.collisions = parse_collisions(spec.urdf)
         self.base_xy_yaw = np.array([spec.position_m[0], spec.position_m[1], spec.yaw_rad])
         self.base_z = float(spec.position_m[2])
         self.twist = np.zeros(3)               # body-frame vx, vy, wz (mobile bases)
@@ -201,8 +166,8 @@ class ArticulatedRobot:
                 for j in range(pb.getNumJoints(self.body, physicsClientId=client))]
         self._bullet_index = {i[1].decode(): i[0] for i in info}
         self._link_index = {i[12].decode(): i[0] for i in info}
-        self._link_index[self.model.root] = -1
-        movable = [j for j in self.model.joints if j.kind != "fixed"]
+        self._link_index[self.chain.root] = -1
+        movable = [j for j in self.chain.joints if j.joint_type != "fixed"]
         n = len(movable)
         self.q, self.qd, self.tau = np.zeros(n), np.zeros(n), np.zeros(n)
         self.mode = [POSITION] * n
@@ -216,7 +181,7 @@ class ArticulatedRobot:
         self.wheels = {w: self.movable_index(f"rollingJoint_{w}") for w in WHEELS}
         self.wheels = {w: k for w, k in self.wheels.items() if k is not None}
         # link frames in the world, refreshed every step (index = pybullet link index + 1)
-        self.link_names = [self.model.root] + [i[12].decode() for i in info]
+        self.link_names = [self.chain.root] + [i[12].decode() for i in info]
         self.link_position = np.zeros((len(self.link_names), 3))
         self.link_quat = np.tile(IDENTITY_QUAT, (len(self.link_names), 1))
         self.read_state()
@@ -225,25 +190,26 @@ class ArticulatedRobot:
     def _register(self, registry, movable):
         base = registry.add(self.spec.name, reg.SHAPE, reg.WORLD, robot=self.spec.name,
                             part="base", pose_source=self.base_pose)
-        self.objects[self.model.root] = base
+        self.objects[self.chain.root] = base
         movable_index = {j.name: k for k, j in enumerate(movable)}
-        for j in self.model.joints:
+        for j in self.chain.joints:
             parent = self.objects[j.parent]
-            if j.kind == "fixed":
+            if j.joint_type == "fixed":
                 self.objects[j.child] = registry.add(
-                    j.child, reg.SHAPE, parent.handle, j.position, j.quat, robot=self.spec.name,
-                    part=j.child)
+                    j.child, reg.SHAPE, parent.handle, j.origin_position, j.origin_quat,
+                    robot=self.spec.name, part=j.child)
                 continue
             align = _z_to_axis(j.axis)
             k = movable_index[j.name]
-            joint_obj = registry.add(j.name, reg.JOINT, parent.handle, j.position,
-                                     quat_mul(j.quat, align), robot=self.spec.name, part=j.name)
+            joint_obj = registry.add(j.name, reg.JOINT, parent.handle, j.origin_position,
+                                     quat_mul(j.origin_quat, align), robot=self.spec.name,
+                                     part=j.name)
             component = ArmJoint(self, k, j)
             joint_obj.properties["joint"] = component
             self.joints.append(component)
             self.objects[j.child] = registry.add(
                 j.child, reg.SHAPE, joint_obj.handle, robot=self.spec.name, part=j.child,
-                pose_source=self._link_pose_source(k, j.kind == "prismatic", align))
+                pose_source=self._link_pose_source(k, component.prismatic, align))
 
     def _link_pose_source(self, k, prismatic, align):
         back = inverse(np.zeros(3), align)[1]
@@ -285,10 +251,10 @@ class ArticulatedRobot:
             if self.mode[k] == POSITION:
                 pb.setJointMotorControl2(self.body, index, pb.POSITION_CONTROL,
                                          targetPosition=float(self.target[k]), force=force,
-                                         maxVelocity=joint.urdf.velocity,
+                                         maxVelocity=joint.max_velocity,
                                          physicsClientId=self.client)
             else:
-                limit = joint.urdf.velocity
+                limit = joint.max_velocity
                 velocity = min(max(float(self.target[k]), -limit), limit)
                 pb.setJointMotorControl2(self.body, index, pb.VELOCITY_CONTROL,
                                          targetVelocity=velocity, force=force,
@@ -352,15 +318,15 @@ class ArticulatedRobot:
     def collision_parts(self):
         """[(link row, Collision)] for every primitive of every link."""
         rows = {name: i for i, name in enumerate(self.link_names)}
-        return [(rows[link], c) for link, shapes in self.model.collisions.items()
+        return [(rows[link], c) for link, shapes in self.collisions.items()
                 for c in shapes]
 
     def joint_names(self) -> List[str]:
-        return [j.urdf.name for j in self.joints]
+        return [j.name for j in self.joints]
 
     def movable_index(self, name: str) -> Optional[int]:
         for k, j in enumerate(self.joints):
-            if j.urdf.name == name:
+            if j.name == name:
                 return k
         return None
 
@@ -371,5 +337,4 @@ def world_poses(link_position, link_quat, rows, offsets_position, offsets_quat):
     return link_position[rows] + quat_rotate(q, offsets_position), quat_mul(q, offsets_quat)
 
 
-__all__ = ["ArmJoint", "ArticulatedRobot", "Collision", "UrdfJoint", "UrdfModel",
-           "parse_urdf", "world_poses"]
+__all__ = ["ArmJoint", "ArticulatedRobot", "Collision", "parse_collisions", "world_poses"]

@@ -308,16 +308,16 @@ class Cell:
             return
         w = 2.0 * math.pi / s.script_period_s
         for k, joint in enumerate(arm.joints):
-            u = joint.urdf
-            if joint.cyclic or u.kind == "prismatic":
-                centre, half = 0.5 * (u.lower + u.upper), 0.5 * (u.upper - u.lower)
-                if joint.cyclic:
-                    continue
+            if joint.cyclic:
+                continue
+            lower, upper = joint.lower, joint.upper
+            if joint.prismatic:
+                centre, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
             else:
-                centre = min(max(0.0, u.lower), u.upper)
-                half = min(centre - u.lower, u.upper - centre)
-                if half < 0.1 * (u.upper - u.lower):      # zero at a stop (youBot): mid-range
-                    centre, half = 0.5 * (u.lower + u.upper), 0.5 * (u.upper - u.lower)
+                centre = min(max(0.0, lower), upper)
+                half = min(centre - lower, upper - centre)
+                if half < 0.1 * (upper - lower):      # zero at a stop (youBot): mid-range
+                    centre, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
             arm.command(k, POSITION, centre + s.script_amplitude * half *
                         math.sin(w * t + 0.7 * k), external=False)
         if s.mobile and s.script == "square":
@@ -326,14 +326,15 @@ class Cell:
             arm.set_twist(*((speed, 0, 0), (0, speed, 0), (-speed, 0, 0), (0, -speed, 0))[side],
                           external=False)
 
-    def _link_poses(self):
-        return (np.concatenate([a.link_position for a in self.arms]) if self.arms
-                else np.zeros((0, 3)),
-                np.concatenate([a.link_quat for a in self.arms]) if self.arms
-                else np.zeros((0, 4)))
+    def link_poses(self):
+        """Every link frame in the world, stacked over the robots (as of the last step)."""
+        return self._positions, self._quats
 
     def _sync_world(self):
-        positions, quats = self._link_poses()
+        positions = (np.concatenate([a.link_position for a in self.arms]) if self.arms
+                     else np.zeros((0, 3)))
+        quats = (np.concatenate([a.link_quat for a in self.arms]) if self.arms
+                 else np.zeros((0, 4)))
         self._positions, self._quats = positions, quats
         handles, p, q = [self._handles], [], []
         if len(self._handles):

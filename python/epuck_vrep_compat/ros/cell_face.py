@@ -83,7 +83,7 @@ class CellFace:
         return out
 
     def tf_message(self, secs, nsecs):
-        positions, quats = self.cell._link_poses()
+        positions, quats = self.cell.link_poses()
         t = np.empty((len(self._tf_objects), 3))
         r = np.empty((len(self._tf_objects), 4))
         n = len(positions)
