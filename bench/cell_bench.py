@@ -7,7 +7,8 @@ over ``--seconds`` of wall time:
 - the real-time factor, twice: with the simulator holding real time (``rtf:=1``, the default
   use: the factor must be 1.0) and flat out (``rtf:=0``: how much faster than real time the
   cell can go, target 2.0);
-- each topic's rate in simulated time (messages / simulated seconds);
+- each topic's rate in simulated time (messages / simulated seconds) and in wall time (the thesis
+  nodes poll ``/vrep`` on a wall-clock rate, so flat out they fall behind in simulated time);
 - the simulator's peak resident memory (VmHWM).
 Needs a built, sourced workspace and ``bench/build.sh``. Prints one JSON line per run and a
 table; ``--json FILE`` writes both runs.
@@ -79,22 +80,22 @@ def run(rtf, seconds):
                                 "--regex", r"^/(?!rosout).*"], env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
         time.sleep(3.0)                 # subscriptions connected
+        sub.send_signal(signal.SIGUSR1)  # count from here
         s0, w0 = clock["t"], time.monotonic()
         time.sleep(seconds)
         s1, w1 = clock["t"], time.monotonic()
         sub.send_signal(signal.SIGINT)
         out, _ = sub.communicate(timeout=60)
         stats = json.loads(out.decode().strip().splitlines()[-1])
-        sim_s = s1 - s0
-        # the subscriber counted a little longer than the window: scale by its wall time
-        scale = (w1 - w0) / stats["wall_s"] if stats["wall_s"] > 0 else 1.0
-        rates = {t: round(v["messages"] * scale / sim_s, 2)
-                 for t, v in sorted(stats["per_topic"].items())}
+        sim_s, wall_s = s1 - s0, w1 - w0
+        per_topic = sorted(stats["per_topic"].items())
+        rates = {t: round(v["messages"] / sim_s, 2) for t, v in per_topic}
+        wall_rates = {t: round(v["messages"] / wall_s, 2) for t, v in per_topic}
         return {"rtf_requested": rtf, "rtf": round(sim_s / (w1 - w0), 3),
                 "topics": stats["topics"], "messages_per_wall_s": round(stats["rate_hz_total"]),
                 "mbytes_per_wall_s": round(stats["bytes"] / stats["wall_s"] / 1e6, 2),
                 "peak_rss_mb": round(peak_rss_mb(simulator_pid(uri)), 1),
-                "rate_per_sim_s": rates}
+                "rate_per_sim_s": rates, "rate_per_wall_s": wall_rates}
     finally:
         if sub is not None and sub.poll() is None:
             sub.kill()
@@ -132,10 +133,13 @@ def main():
         print(json.dumps(r), flush=True)
         results.append(r)
     print(f"machine: {machine}")
-    print(f"{'topic':40s} " + " ".join(f"rtf:={r['rtf_requested']:<6}" for r in results))
+    print("messages per simulated second / per wall second")
+    print(f"{'topic':32s} " + " ".join(f"{'rtf:=' + str(r['rtf_requested']):>17s}"
+                                       for r in results))
     topics = sorted(set().union(*(r["rate_per_sim_s"] for r in results)))
     for t in topics:
-        print(f"{t:40s} " + " ".join(f"{r['rate_per_sim_s'].get(t, 0.0):>10.2f}"
+        print(f"{t:32s} " + " ".join(f"{r['rate_per_sim_s'].get(t, 0.0):>8.2f}/"
+                                     f"{r['rate_per_wall_s'].get(t, 0.0):<8.2f}"
                                      for r in results))
     for r in results:
         print(f"rtf:={r['rtf_requested']}: achieved RTF {r['rtf']}, peak RSS "

@@ -10,7 +10,9 @@
 // On SIGINT/SIGTERM, or after --duration seconds, it prints one JSON line to stdout:
 //   {"topics":n,"messages":m,"bytes":b,"wall_s":t,"rate_hz_total":m/t}
 // "bytes" counts serialised message bodies, without TCPROS's 4-byte length prefix.
-// "wall_s" runs from the first master scan to the end. Diagnostics go to stderr only.
+// "wall_s" runs from the first master scan to the end. SIGUSR1 zeroes the counters and restarts
+// that clock, so a benchmark can count over an exact window once every subscription is
+// connected. Diagnostics go to stderr only.
 
 #include <ros/callback_queue.h>
 #include <ros/master.h>
@@ -31,7 +33,10 @@ namespace {
 
 volatile std::sig_atomic_t g_stop_requested = 0;
 
+volatile std::sig_atomic_t g_reset_requested = 0;
+
 void requestStop(int /*signal*/) { g_stop_requested = 1; }
+void requestReset(int /*signal*/) { g_reset_requested = 1; }
 
 struct Options {
   std::string regex = "^(?!/rosout).*";  // everything except /rosout and /rosout_agg
@@ -118,6 +123,13 @@ class TopicCounter {
     }
   }
 
+  void reset() {
+    for (auto& entry : counts_) {
+      entry.second.messages = 0;
+      entry.second.bytes = 0;
+    }
+  }
+
   void printJson(double wall_s, bool per_topic) const {
     std::uint64_t messages = 0;
     std::uint64_t bytes = 0;
@@ -162,6 +174,7 @@ int main(int argc, char** argv) {
   const Options options = parseOptions(argc, argv);  // ros::init removed the remappings
   std::signal(SIGINT, requestStop);
   std::signal(SIGTERM, requestStop);
+  std::signal(SIGUSR1, requestReset);
   if (!ros::master::check()) {
     std::fprintf(stderr, "subscribe_all: no ROS master at %s\n", ros::master::getURI().c_str());
     return 1;
@@ -170,7 +183,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle node;
   TopicCounter counter(node, options);
   using Clock = std::chrono::steady_clock;
-  const Clock::time_point start = Clock::now();
+  Clock::time_point start = Clock::now();
   Clock::time_point next_scan = start;
   const auto seconds_since_start = [&start] {
     return std::chrono::duration<double>(Clock::now() - start).count();
@@ -180,6 +193,11 @@ int main(int argc, char** argv) {
 
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (!g_stop_requested && ros::ok()) {
+    if (g_reset_requested) {
+      g_reset_requested = 0;
+      counter.reset();
+      start = Clock::now();
+    }
     if (Clock::now() >= next_scan) {
       counter.scanMaster();
       next_scan += scan_period;
