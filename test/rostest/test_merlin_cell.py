@@ -14,7 +14,9 @@ import numpy as np
 import rospkg
 import rospy
 import rostest
-from sensor_msgs.msg import Image, LaserScan
+import tf2_ros
+from sensor_msgs.msg import Image, JointState, LaserScan
+from visualization_msgs.msg import MarkerArray
 
 from epuck_vrep_compat.cell.kinematics import load_urdf_chain
 from epuck_vrep_compat.msg import (
@@ -282,8 +284,46 @@ class MerlinCell(unittest.TestCase):
                 with open(os.path.join(out, name), "rb") as f:
                     self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", name)
 
+    def test_09_rviz_draws_each_robot_from_its_description_and_tf(self):
+        """robot_description + TF is what rviz's RobotModel needs: every link of the published
+        description has a frame, and the frames are the description's kinematics at the
+        joint angles of /<robot>/joint_states of the same step."""
+        buf = tf2_ros.Buffer(cache_time=rospy.Duration(30))
+        tf2_ros.TransformListener(buf)
+        for robot in ("IRB140", "SIX", "youBot"):
+            with tempfile.NamedTemporaryFile("w", suffix=".urdf") as f:
+                f.write(rospy.get_param(f"/{robot}/robot_description"))
+                f.flush()
+                chain = load_urdf_chain(f.name)
+            self.assertEqual(chain.root, robot)
+            states = rospy.wait_for_message(f"/{robot}/joint_states", JointState, timeout=30)
+            q = dict(zip(states.name, states.position))
+            self.assertEqual(set(q), {j.name for j in chain.joints if j.joint_type != "fixed"})
+            base_p, base_q = _tf_pose(buf, robot, states.header.stamp)
+            expected = chain.forward(q, base_p, base_q)
+            self.assertGreater(len(expected), 6)
+            for link, (p, r) in expected.items():
+                got_p, got_q = _tf_pose(buf, link, states.header.stamp)
+                np.testing.assert_allclose(got_p, p, atol=1e-4, err_msg=f"{robot}: {link}")
+                angle = 2 * math.acos(min(1.0, abs(float(np.dot(got_q, r)))))
+                self.assertLess(angle, 1e-3, f"{robot}: {link} orientation")
+        # the scene's static markers are in odom: one tree with the cell's world
+        p, r = _tf_pose(buf, "odom", rospy.Time(0))
+        np.testing.assert_allclose(np.concatenate([p, r]), [0, 0, 0, 0, 0, 0, 1], atol=1e-12)
+        markers = rospy.wait_for_message("/vrep/cell_markers", MarkerArray, timeout=30)
+        frames = {(m.ns, m.header.frame_id) for m in markers.markers}
+        self.assertIn(("operator", "Bill"), frames)
+        self.assertIn(("devices", LASER), frames)
+        self.assertIn(("devices", "camera0"), frames)
+
     def test_99_no_errors_logged(self):
         self.assertEqual(self.guard.errors, [])
+
+
+def _tf_pose(buf, frame, stamp):
+    t = buf.lookup_transform("world", frame, stamp, rospy.Duration(10)).transform
+    return (np.array([t.translation.x, t.translation.y, t.translation.z]),
+            np.array([t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w]))
 
 
 def _pose_msg(position, quat):

@@ -93,3 +93,32 @@ def test_a_vrep_matrix_becomes_the_same_pose():
         e[axis] = 1.0
         assert quat_rotate(quat, e) == pytest.approx(r[:, axis], abs=2e-3)
     assert np.linalg.norm(quat) == pytest.approx(1.0)
+
+
+def test_the_robot_description_names_links_as_their_scene_objects():
+    """rviz draws a robot from robot_description + TF: the description's links must be the TF
+    frames, also when the world file renames the robot (its base link is the robot's name)."""
+    import xml.etree.ElementTree as ET
+
+    import pybullet as pb
+
+    from epuck_vrep_compat.cell.articulated import ArticulatedRobot
+    from epuck_vrep_compat.scene.registry import SceneRegistry
+
+    spec = parse_cell({"robots": [{"name": "left_arm", "urdf": "../models/irb140.urdf",
+                                   "position_m": [0, 0, 0]}]}, "cell", WORLDS)
+    client = pb.connect(pb.DIRECT)
+    try:
+        registry = SceneRegistry()
+        arm = ArticulatedRobot(client, spec.arms[0], registry)
+        root = ET.fromstring(arm.description())
+    finally:
+        pb.disconnect(client)
+    links = {link.get("name") for link in root.iter("link")}
+    assert root.get("name") == "left_arm"
+    assert "left_arm" in links and "IRB140" not in links
+    assert links == {obj.name for obj in arm.objects.values()}
+    ends = {end.get("link") for joint in root.iter("joint")
+            for end in (joint.find("parent"), joint.find("child"))}
+    assert ends == links
+    assert all(registry.handle_of(name) != -1 for name in links)

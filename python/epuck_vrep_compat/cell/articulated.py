@@ -324,6 +324,22 @@ class ArticulatedRobot:
     def joint_names(self) -> List[str]:
         return [j.name for j in self.joints]
 
+    def description(self) -> str:
+        """The URDF with every link named as its scene object (= its TF frame), for a
+        ``robot_description`` parameter: rviz's RobotModel then draws the robot from TF."""
+        tree = ET.parse(self.spec.urdf)
+        root = tree.getroot()
+        root.set("name", self.spec.name)
+        rename = {link: obj.name for link, obj in self.objects.items()}
+        for link in root.iter("link"):
+            link.set("name", rename.get(link.get("name"), link.get("name")))
+        for joint in root.iter("joint"):
+            for end in ("parent", "child"):
+                element = joint.find(end)
+                if element is not None:
+                    element.set("link", rename.get(element.get("link"), element.get("link")))
+        return ET.tostring(root, encoding="unicode")
+
     def movable_index(self, name: str) -> Optional[int]:
         for k, j in enumerate(self.joints):
             if j.name == name:

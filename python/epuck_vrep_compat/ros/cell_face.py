@@ -15,22 +15,34 @@
   with no positions, velocities are target velocities; names select joints, none = all in
   order); ``/<robot>/cmd_vel`` (``geometry_msgs/Twist``) for a mobile base. A command stops
   the robot's default script until the simulation is stopped or reset.
+- For rviz: ``/<robot>/robot_description`` (the robot's URDF, links named as their TF frames,
+  so a RobotModel display draws each arm from TF alone); ``/vrep/cell_markers`` (latched,
+  frame-locked markers for the operator, the laser, the cameras and the Kinect); a static
+  ``world -> odom`` identity, so the scene's static objects (``/vrep/markers``, in ``odom``)
+  and any e-puck join the cell's tree.
 """
 import math
 
 import numpy as np
 import rospy
-from geometry_msgs.msg import Twist
+import tf2_ros
+from geometry_msgs.msg import TransformStamped, Twist
 from sensor_msgs.msg import JointState, LaserScan
+from std_msgs.msg import ColorRGBA
+from visualization_msgs.msg import Marker, MarkerArray
 from vrep_common.srv import simRosEnablePublisherRequest
 
 from epuck_vrep_compat.cell.articulated import POSITION, VELOCITY
+from epuck_vrep_compat.ros import names
+from epuck_vrep_compat.ros.led_face import shape_marker
 from epuck_vrep_compat.ros.publishing import synchronous_publisher
 from epuck_vrep_compat.ros.wire import TransformBatchWire
 from epuck_vrep_compat.sim.control import STOPPED
 from epuck_vrep_compat.vrep import constants as vc
 
 WORLD_FRAME = "world"
+CELL_MARKER_TOPIC = "/vrep/cell_markers"
+_DEVICE_COLOR = ColorRGBA(0.15, 0.15, 0.15, 1.0)
 
 
 class CellFace:
@@ -60,6 +72,46 @@ class CellFace:
         self._tf_objects = self._tf_frames()
         self._tf_wire = TransformBatchWire([(WORLD_FRAME, name) for name, _ in
                                             self._tf_objects])
+        self._publish_for_rviz()
+
+    # --- rviz: robot descriptions, markers, the static world -> odom -------------------------
+    def _publish_for_rviz(self):
+        for arm in self.cell.arms:
+            rospy.set_param("/" + arm.spec.name + "/robot_description", arm.description())
+        self._static_tf = tf2_ros.StaticTransformBroadcaster()
+        odom = TransformStamped()
+        odom.header.frame_id = WORLD_FRAME
+        odom.child_frame_id = names.ODOM_FRAME
+        odom.transform.rotation.w = 1.0
+        self._static_tf.sendTransform(odom)
+        self._markers = rospy.Publisher(CELL_MARKER_TOPIC, MarkerArray, queue_size=1,
+                                        latch=True)
+        self._markers.publish(self._marker_array())
+
+    def _marker_array(self):
+        cell, registry = self.cell, self.sim.registry
+        out = MarkerArray()
+        if cell.operator is not None:
+            o = cell.operator.spec
+            r, g, b = o.color
+            color = ColorRGBA(r, g, b, 1.0)
+            frame = registry.get(cell.operator_handles[0]).name
+            out.markers.append(shape_marker(
+                frame, "operator", 0, Marker.CYLINDER, (0, 0, cell.operator.body_centre_z),
+                (2 * o.body_radius_m, 2 * o.body_radius_m, o.body_height_m), color))
+            out.markers.append(shape_marker(
+                frame, "operator", 1, Marker.SPHERE, (0, 0, cell.operator.head_centre_z),
+                (2 * o.head_radius_m,) * 3, color))
+        devices = []
+        if cell.laser is not None:        # the URG's body: 50 x 50 x 70 mm
+            devices.append((cell.laser_handle, Marker.CYLINDER, (0.05, 0.05, 0.07)))
+        devices += [(c.handle, Marker.CUBE, (0.08, 0.08, 0.08)) for c in cell.cameras]
+        devices += [(v.handle, Marker.CUBE, (0.07, 0.07, 0.07))
+                    for v in (cell.kinect_depth, cell.kinect_rgb) if v is not None]
+        for handle, shape, size in devices:
+            out.markers.append(shape_marker(registry.get(handle).name, "devices", handle, shape,
+                                            (0, 0, 0), size, _DEVICE_COLOR))
+        return out
 
     # --- TF -----------------------------------------------------------------------------
     def _tf_frames(self):

@@ -78,14 +78,14 @@ class LedFace:
         leds = led_positions()
         for name, values in state.items():
             frame = self.profile.frame(name, names.BASE_FRAME)
-            body = _marker(frame, name, 0, Marker.CYLINDER,
+            body = shape_marker(frame, name, 0, Marker.CYLINDER,
                            (0, 0, 0.5 * model.body_height_m),
                            (2 * model.body_radius_m, 2 * model.body_radius_m,
                             model.body_height_m), ColorRGBA(0.9, 0.9, 0.85, 0.9))
             out.markers.append(body)
             for k, (x, y, z) in enumerate(leds[:9]):
                 color = _LED_ON if values[k] else _LED_OFF
-                out.markers.append(_marker(frame, name + "/leds", k, Marker.SPHERE, (x, y, z),
+                out.markers.append(shape_marker(frame, name + "/leds", k, Marker.SPHERE, (x, y, z),
                                            (0.006, 0.006, 0.006), color))
         return out
 
@@ -96,7 +96,7 @@ class LedFace:
                 continue
             shape = Marker.CUBE if obj.properties["shape"] == "box" else Marker.CYLINDER
             r, g, b = obj.properties["color"]
-            markers.append(_marker(names.ODOM_FRAME, "arena", obj.handle, shape,
+            markers.append(shape_marker(names.ODOM_FRAME, "arena", obj.handle, shape,
                                    obj.local_position, obj.properties["size"],
                                    ColorRGBA(r, g, b, 1.0), obj.local_quat))
         return markers
@@ -119,7 +119,8 @@ class _Leds:
         self.publisher.unregister()
 
 
-def _marker(frame, ns, marker_id, shape, position, scale, color, quat=(0, 0, 0, 1)):
+def shape_marker(frame, ns, marker_id, shape, position, scale, color, quat=(0, 0, 0, 1)):
+    """A frame-locked primitive marker (the pose is relative to ``frame``)."""
     m = Marker()
     m.header.frame_id = frame
     m.ns = ns
