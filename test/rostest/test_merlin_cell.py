@@ -316,6 +316,49 @@ class MerlinCell(unittest.TestCase):
         self.assertIn(("devices", LASER), frames)
         self.assertIn(("devices", "camera0"), frames)
 
+    def test_98_cell_objects_are_removed_through_vrep(self):
+        """simRosRemoveObject/simRosRemoveModel on the cell (last: the scene changes)."""
+        # a part only goes with its whole: -1, nothing changes
+        self.assertEqual(call("simRosRemoveObject", handle=handle("IRB140_link3")).result, -1)
+        self.assertNotEqual(handle("IRB140_link3"), -1)
+        # one proximity sensor: the proxSensors node reports it missing, the others stay
+        self.assertNotEqual(
+            call("simRosRemoveObject", handle=handle("Proximity_sensor12")).result, -1)
+        self.assertEqual(handle("Proximity_sensor12"), -1)
+        prox = Collector("/prox_data", vett_proxData)
+        states = {}
+        while "Proximity_sensor12" not in states or states["Proximity_sensor12"] != -1:
+            msg = prox.wait(len(prox.messages) + 1, timeout_s=30)[-1]
+            states = {d.nomeProx: d.state for d in msg.proxData}
+        self.assertEqual(len(states), 11)
+        self.assertEqual(sum(1 for v in states.values() if v == -1), 1)
+        # a robot goes whole: its objects, topics and description
+        self.assertNotEqual(call("simRosRemoveModel", handle=handle("SIX")).result, -1)
+        for name in ("SIX", "SIX_joint1", "SIX_link7"):
+            self.assertEqual(handle(name), -1, name)
+        self.assertFalse(rospy.has_param("/SIX/robot_description"))
+        published = dict(rospy.get_published_topics())
+        self.assertNotIn("/SIX/joint_states", published)
+        self.assertIn("/IRB140/joint_states", published)
+        # the operator: the cameras' blob filter finds nobody, the markers drop him
+        self.assertNotEqual(call("simRosRemoveObject", handle=handle("Bill")).result, -1)
+        self.assertEqual(handle("Bill_head"), -1)
+        wait_sim_time(0.2)
+        for k, camera in enumerate(("camera0", "camera")):
+            res = call("simRosReadVisionSensor", handle=handle(camera))
+            self.assertNotEqual(res.result, -1, camera)
+            self.assertEqual(len(res.packetSizes), 2, camera)     # default + blob packet
+            self.assertEqual(res.packetData[res.packetSizes[0]], 0, camera)   # no blob
+            signal = call("simRosGetFloatSignal", signalName=f"Blob_Camera_{k}_X")
+            self.assertNotEqual(signal.result, 1, camera)
+        markers = rospy.wait_for_message("/vrep/cell_markers", MarkerArray, timeout=30)
+        self.assertNotIn("operator", {m.ns for m in markers.markers})
+        # and the simulation goes on: the laser still scans, the other robots still move
+        scans = Collector("/vrep/front_scan", LaserScan)
+        states = Collector("/IRB140/joint_states", JointState)
+        scans.wait(3, timeout_s=30)
+        self.assertGreaterEqual(len(states.wait(3, timeout_s=30)), 3)
+
     def test_99_no_errors_logged(self):
         self.assertEqual(self.guard.errors, [])
 

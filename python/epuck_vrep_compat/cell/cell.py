@@ -122,19 +122,15 @@ class Cell:
                                              for a in spec.arms]
         self.arm_by_name: Dict[str, ArticulatedRobot] = {a.spec.name: a for a in self.arms}
         self._script_time = 0.0
-        # collision primitives of every link: handle, row into the stacked link poses, offset
-        handles, rows, offset_p, offset_q = [], [], [], []
-        row0 = 0
+        # collision primitives of every link: (arm, handle, row in the arm's links, primitive)
+        self._collisions = []
         for arm in self.arms:
             for k, (row, part) in enumerate(arm.collision_parts()):
                 link_obj = arm.objects[arm.link_names[row]]
                 handle = self._collision_handle(registry, link_obj, k, arm.spec.name)
                 self._add_primitive(world, handle, part, arm.spec.color, GROUP_ROBOT)
-                handles.append(handle)
-                rows.append(row0 + row)
-                offset_p.append(part.position)
-                offset_q.append(part.quat)
-            row0 += len(arm.link_names)
+                self._collisions.append((arm, handle, row, part))
+        self._index_collisions()
         self.operator = None
         if spec.operator is not None:
             self.operator = WalkingOperator(spec.operator)
@@ -149,10 +145,6 @@ class Cell:
             world.add_sphere(head.handle, o.head_radius_m, np.zeros(3), IDENTITY_QUAT, o.color,
                              GROUP_DYNAMIC)
             self.operator_handles = (base.handle, head.handle)
-        self._handles = np.asarray(handles, dtype=np.int32)
-        self._rows = np.asarray(rows, dtype=np.intp)
-        self._offset_p = np.asarray(offset_p, dtype=float).reshape(-1, 3)
-        self._offset_q = np.asarray(offset_q, dtype=float).reshape(-1, 4)
         self._build_proximity(registry)
         self._build_laser(registry, world)
         self._build_cameras(registry)
@@ -174,6 +166,19 @@ class Cell:
             name = f"{link_obj.name}_collision{k}"
         return registry.add(name, reg.SHAPE, link_obj.handle, robot=robot, part=name).handle
 
+    def _index_collisions(self):
+        """The stacked arrays ``_sync_world`` reads, from the arms there are."""
+        first_row, row0 = {}, 0
+        for arm in self.arms:
+            first_row[id(arm)] = row0
+            row0 += len(arm.link_names)
+        kept = [c for c in self._collisions if id(c[0]) in first_row]
+        self._collisions = kept
+        self._handles = np.asarray([h for _, h, _, _ in kept], dtype=np.int32)
+        self._rows = np.asarray([first_row[id(a)] + r for a, _, r, _ in kept], dtype=np.intp)
+        self._offset_p = np.asarray([p.position for *_, p in kept], dtype=float).reshape(-1, 3)
+        self._offset_q = np.asarray([p.quat for *_, p in kept], dtype=float).reshape(-1, 4)
+
     @staticmethod
     def _add_primitive(world, handle, part, color, group):
         if part.shape == "box":
@@ -194,23 +199,33 @@ class Cell:
         raise ValueError(f"proximity sensor parent '{link_name}' is not a link of a cell robot")
 
     def _build_proximity(self, registry):
-        specs = self.spec.proximity
+        self._prox = []                          # (spec, scene object, component)
+        for p in self.spec.proximity:
+            arm, _ = self._link_row(p.parent)
+            quat = quat_from_rpy(*p.rpy_rad)
+            obj = registry.add(p.name, reg.PROXIMITY_SENSOR, arm.objects[p.parent].handle,
+                               p.position_m, quat, robot=arm.spec.name, part=p.name)
+            component = RayProximity(self, len(self._prox))
+            obj.properties["proximity"] = component
+            obj.properties["range_m"] = (p.min_range_m, p.max_range_m)
+            self._prox.append((p, obj, component))
+        self._index_proximity()
+
+    def _index_proximity(self):
+        """The core's ray array and its per-sensor arrays, from the sensors there are."""
+        registry = self.sim.registry
+        self._prox = [entry for entry in self._prox if entry[1].handle in registry]
+        specs = [p for p, _, _ in self._prox]
         n = len(specs)
         self.prox_rows = np.zeros(n, dtype=np.intp)
         self.prox_offset_p = np.zeros((n, 3))
         self.prox_offset_q = np.tile(IDENTITY_QUAT, (n, 1))
-        self.prox_handles = []
-        for i, p in enumerate(specs):
-            arm, row = self._link_row(p.parent)
-            self.prox_rows[i] = row
+        for i, (p, _, component) in enumerate(self._prox):
+            self.prox_rows[i] = self._link_row(p.parent)[1]
             self.prox_offset_p[i] = p.position_m
             self.prox_offset_q[i] = quat_from_rpy(*p.rpy_rad)
-            obj = registry.add(p.name, reg.PROXIMITY_SENSOR, arm.objects[p.parent].handle,
-                               p.position_m, self.prox_offset_q[i], robot=arm.spec.name,
-                               part=p.name)
-            obj.properties["proximity"] = RayProximity(self, i)
-            obj.properties["range_m"] = (p.min_range_m, p.max_range_m)
-            self.prox_handles.append(obj.handle)
+            component._index = i
+        self.prox_handles = [obj.handle for _, obj, _ in self._prox]
         self.prox_sensors = _core.RayProximityArray(
             np.array([p.min_range_m for p in specs]), np.array([p.max_range_m for p in specs]))
         self.prox_state = np.zeros(n, dtype=np.int32)
@@ -267,6 +282,7 @@ class Cell:
             return
         base = registry.add(k.name, reg.SHAPE, reg.WORLD, k.position_m, quat_from_rpy(*k.rpy_rad),
                             properties=dict(shape="box", color=(0.15, 0.15, 0.15)))
+        self.kinect_base = base.handle
         w, h = k.resolution
         vfov = 2.0 * math.atan(math.tan(0.5 * k.horizontal_fov_rad) * h / w)
         spec = CameraSpec(width=w, height=h, rate_hz=30.0, vertical_fov_rad=vfov, near_m=k.near_m,
@@ -371,6 +387,68 @@ class Cell:
     def owns(self, obj) -> bool:
         return obj.robot in self.arm_by_name or (
             self.operator is not None and obj.handle in self.operator_handles)
+
+    def remove_object(self, obj):
+        """simRemoveObject/simRemoveModel on the cell: a robot's base object takes the whole
+        robot (its links, joints and the proximity sensors mounted on it), the operator's body
+        takes the operator, and a sensor, camera, laser or the Kinect goes alone; the cell
+        re-indexes what is left. Returns the removed handles, or None for an object that is
+        not the cell's. ValueError for a part that only goes with its whole."""
+        registry, world = self.sim.registry, self.sim.world
+        if self.operator is not None and obj.handle in self.operator_handles:
+            if obj.handle != self.operator_handles[0]:
+                raise ValueError(f"'{obj.name}' is part of the operator; remove "
+                                 f"'{registry.get(self.operator_handles[0]).name}' instead")
+        elif obj.handle in self.prox_handles:
+            pass
+        elif obj.robot in self.arm_by_name:
+            if obj.part != "base":
+                base = self.arm_by_name[obj.robot].objects[
+                    self.arm_by_name[obj.robot].chain.root].name
+                raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; remove the "
+                                 f"robot's base object '{base}' instead")
+        elif obj.handle not in self._device_handles():
+            return None
+        removed = registry.remove(obj.handle)
+        for h in removed:
+            if world.has(h):
+                world.remove(h)
+        self._forget(set(removed))
+        self._sync_world()
+        self._sense()
+        return removed
+
+    def _device_handles(self):
+        handles = [c.handle for c in self.cameras]
+        if self.laser is not None:
+            handles.append(self.laser_handle)
+        if self.spec.kinect is not None:
+            handles += [v.handle for v in (self.kinect_depth, self.kinect_rgb) if v is not None]
+            if self.kinect_base in self.sim.registry:
+                handles.append(self.kinect_base)
+        return handles
+
+    def _forget(self, removed):
+        """Drop every part whose scene object is gone, and re-index."""
+        for arm in [a for a in self.arms if a.objects[a.chain.root].handle in removed]:
+            pb.removeBody(arm.body, physicsClientId=self.client)
+            self.arms.remove(arm)
+            del self.arm_by_name[arm.spec.name]
+        self._index_collisions()
+        self._index_proximity()
+        if self.operator is not None and self.operator_handles[0] in removed:
+            self.operator, self.operator_handles = None, ()
+        if self.laser is not None and self.laser_handle in removed:
+            self.laser, self.laser_ranges, self.scan_due = None, None, False
+        kept = [(v, c) for v, c in zip(self.cameras, self.camera_specs) if v.handle not in removed]
+        self.cameras = [v for v, _ in kept]
+        self.camera_specs = [c for _, c in kept]
+        self.blobs = {c.name: self.blobs[c.name] for c in self.camera_specs
+                      if c.name in self.blobs}
+        if self.kinect_depth is not None and self.kinect_depth.handle in removed:
+            self.kinect_depth = None
+        if self.kinect_rgb is not None and self.kinect_rgb.handle in removed:
+            self.kinect_rgb = None
 
     def move_object(self, obj, position, quat):
         """A robot's base moves (x, y, yaw; mobile or not); its links follow their joints; the

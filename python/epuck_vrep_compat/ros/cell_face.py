@@ -59,20 +59,49 @@ class CellFace:
         if cell.laser is not None:
             self._scan = synchronous_publisher("~" + cell.laser.topic, LaserScan)
             self._scan_msg = self._laser_message()
-        self._joint_pubs = []
+        self._arms = {}                     # robot name -> (publisher, arm, msg, subscribers)
         for arm in cell.arms:
             ns = "/" + arm.spec.name
             msg = JointState(name=arm.joint_names())
-            self._joint_pubs.append((synchronous_publisher(ns + "/joint_states", JointState),
-                                     arm, msg))
-            rospy.Subscriber(ns + "/joint_command", JointState, self._on_joint_command, arm,
-                             queue_size=10)
+            subscribers = [rospy.Subscriber(ns + "/joint_command", JointState,
+                                            self._on_joint_command, arm, queue_size=10)]
             if arm.spec.mobile:
-                rospy.Subscriber(ns + "/cmd_vel", Twist, self._on_cmd_vel, arm, queue_size=10)
+                subscribers.append(rospy.Subscriber(ns + "/cmd_vel", Twist, self._on_cmd_vel,
+                                                    arm, queue_size=10))
+            self._arms[arm.spec.name] = (synchronous_publisher(ns + "/joint_states",
+                                                               JointState), arm, msg, subscribers)
+        self._blob_topics = self._camera_blob_topics()
+        self._index_tf()
+        self._publish_for_rviz()
+
+    def _index_tf(self):
         self._tf_objects = self._tf_frames()
         self._tf_wire = TransformBatchWire([(WORLD_FRAME, name) for name, _ in
                                             self._tf_objects])
-        self._publish_for_rviz()
+
+    def _camera_blob_topics(self):
+        return {t for c in self.cell.camera_specs for t in c.blob_topics}
+
+    def sync(self):
+        """Follow the cell's objects after a removal (between steps, under the lock): the
+        removed robots' topics and descriptions, the laser's topic, the removed cameras' blob
+        signals and their TF frames go; the markers are re-sent."""
+        for name in [n for n in self._arms if n not in self.cell.arm_by_name]:
+            publisher, _, _, subscribers = self._arms.pop(name)
+            publisher.unregister()
+            for subscriber in subscribers:
+                subscriber.unregister()
+            if rospy.has_param("/" + name + "/robot_description"):
+                rospy.delete_param("/" + name + "/robot_description")
+        if self._scan is not None and self.cell.laser is None:
+            self._scan.unregister()
+            self._scan = None
+        blob_topics = self._camera_blob_topics()
+        for topic in self._blob_topics - blob_topics:
+            self._backend.clear_signal("float", topic)
+        self._blob_topics = blob_topics
+        self._index_tf()
+        self._markers.publish(self._marker_array())
 
     # --- rviz: robot descriptions, markers, the static world -> odom -------------------------
     def _publish_for_rviz(self):
@@ -231,7 +260,7 @@ class CellFace:
                 msg.header.stamp = stamp
                 msg.ranges = self.cell.laser_ranges.tolist()
                 batch.add(self._scan, msg)
-        for pub, arm, msg in self._joint_pubs:
+        for pub, arm, msg, _ in self._arms.values():
             if batch.wanted(pub):
                 msg.header.stamp = stamp
                 msg.position = arm.q.tolist()

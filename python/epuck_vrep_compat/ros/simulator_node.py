@@ -124,10 +124,13 @@ class SimulatorNode:
         """Robots or objects came or went (a /vrep service, under the lock): every face
         follows now, so the next step publishes for exactly the robots there are."""
         with self._lock:
-            for face in (self.epucks, self.tf, self.cameras, self.leds):
-                face.sync()
-        rospy.loginfo("scene changed: %d robot(s): %s", self.sim.size,
-                      ", ".join(self.sim.robot_names) or "none")
+            for face in (self.epucks, self.tf, self.cameras, self.leds, self.cell):
+                if face is not None:
+                    face.sync()
+        robots = list(self.sim.robot_names)
+        if self.sim.cell is not None:
+            robots += [arm.spec.name for arm in self.sim.cell.arms]
+        rospy.loginfo("scene changed: %d robot(s): %s", len(robots), ", ".join(robots) or "none")
 
     # --- the loop ------------------------------------------------------------------------
     def _stamp(self):

@@ -108,9 +108,14 @@ class Simulation:
 
     def remove_object(self, handle: int) -> List[int]:
         """Remove a scene object (with its children) or, for a robot's base object, the whole
-        robot; returns the removed handles. KeyError for an unknown handle; ValueError for a
+        robot (the cell's objects: see :meth:`Cell.remove_object`); returns the removed handles. KeyError for an unknown handle; ValueError for a
         part of a robot (a robot is removed whole)."""
         obj = self.registry.get(handle)
+        if self.cell is not None:
+            removed = self.cell.remove_object(obj)
+            if removed is not None:
+                self._changed()
+                return removed
         if obj.robot is not None:
             if obj.part != "root":
                 base = self.robots[self._index_by_name[obj.robot]].root.name
