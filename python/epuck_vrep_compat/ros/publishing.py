@@ -13,9 +13,18 @@ with one ``write_data`` per connection. The node flushes before it sleeps (so at
 step goes out at once, as before) and otherwise at least every ``max_delay_s`` of wall time, so
 when the simulation runs faster than the subscribers could take single packets, several steps
 share one packet. It relies on ``_PublisherImpl.connections`` / ``remove_connection`` and
-``TCPROSTransport.write_data``, rospy internals unchanged since ROS Kinetic.
+``TCPROSTransport.socket``, rospy internals unchanged since ROS Kinetic.
+
+Writes never block: rospy's ``sendall`` would stop the whole simulation as soon as one
+subscriber stops reading (a frozen rviz, a process stopped in a debugger) and its socket buffers
+fill. Each connection takes what its socket accepts now; the rest waits in that connection's
+backlog, retried at every flush, and a backlog above ``max_backlog_bytes`` drops its oldest
+whole batches (never a partly sent one), with a throttled warning: a stuck subscriber loses
+messages, like a full roscpp subscriber queue, and everyone else keeps the rates.
 """
+import collections
 import io
+import socket
 import struct
 import time
 import warnings
@@ -23,6 +32,7 @@ import warnings
 import rospy
 
 _FRAME = struct.Struct("<I")
+_WARN_PERIOD_S = 10.0     # wall seconds between warnings about one stuck subscriber
 
 
 def synchronous_publisher(topic, msg_class, **kwargs):
@@ -46,12 +56,27 @@ def wire_bytes(msg) -> bytes:
     return data
 
 
+class _Backlog:
+    """Bytes a subscriber's socket has not taken yet: whole batches, the first maybe partly
+    sent (``chunks`` hold memoryviews)."""
+    __slots__ = ("impl", "chunks", "size")
+
+    def __init__(self, impl):
+        self.impl = impl
+        self.chunks = collections.deque()
+        self.size = 0
+
+
 class StepBatch:
     """Messages of one or more steps, written to the subscribers together."""
 
-    def __init__(self, max_delay_s: float = 0.05):
+    def __init__(self, max_delay_s: float = 0.05, max_backlog_bytes: int = 4 << 20):
         self.max_delay_s = max_delay_s
+        self.max_backlog_bytes = max_backlog_bytes
         self._pending = {}            # publisher impl -> list of framed messages
+        self._backlogs = {}           # connection -> _Backlog (only while one exists)
+        self._dropped = {}            # (subscriber, topic) -> batches dropped so far
+        self._warned = {}             # (subscriber, topic) -> wall time of the last warning
         self._last_flush = time.monotonic()
 
     @staticmethod
@@ -79,6 +104,11 @@ class StepBatch:
     def due(self) -> bool:
         return time.monotonic() - self._last_flush >= self.max_delay_s
 
+    @property
+    def backlog_bytes(self) -> int:
+        """Bytes waiting for subscribers that do not keep up."""
+        return sum(b.size for b in self._backlogs.values())
+
     def flush(self):
         pending, self._pending = self._pending, {}
         self._last_flush = time.monotonic()
@@ -87,8 +117,75 @@ class StepBatch:
                 continue
             data = b"".join(chunks)
             for connection in impl.connections:     # rospy replaces the list, never mutates it
-                try:
-                    connection.write_data(data)
-                except Exception as e:  # noqa: BLE001 - rospy drops a failing connection too
-                    rospy.logdebug("dropping connection to %s: %s", connection.endpoint_id, e)
-                    impl.remove_connection(connection)
+                backlog = self._backlogs.get(connection)
+                if backlog is None:
+                    sent = self._send(impl, connection, data)
+                    if sent is None or sent == len(data):
+                        continue
+                    backlog = self._backlogs[connection] = _Backlog(impl)
+                    data_left = memoryview(data)[sent:]
+                else:
+                    data_left = memoryview(data)
+                backlog.chunks.append(data_left)
+                backlog.size += len(data_left)
+                self._trim(connection, backlog)
+        if self._backlogs:
+            self._drain()
+
+    def _trim(self, connection, backlog):
+        """Drop the oldest whole batches after the head while the backlog is too big."""
+        dropped = 0
+        while backlog.size > self.max_backlog_bytes and len(backlog.chunks) > 1:
+            chunk = backlog.chunks[1]
+            del backlog.chunks[1]
+            backlog.size -= len(chunk)
+            dropped += 1
+        if not dropped:
+            return
+        key = (connection.endpoint_id, backlog.impl.resolved_name)
+        self._dropped[key] = total = self._dropped.get(key, 0) + dropped
+        now = time.monotonic()          # wall time: rospy's throttles follow /clock
+        if now - self._warned.get(key, -_WARN_PERIOD_S) >= _WARN_PERIOD_S:
+            self._warned[key] = now
+            rospy.logwarn("subscriber %s of %s is not reading: %d batches of messages dropped "
+                          "for it so far, %.1f MB waiting", key[0], key[1], total,
+                          backlog.size / 1e6)
+
+    def _drain(self):
+        for connection, backlog in list(self._backlogs.items()):
+            impl = backlog.impl
+            while backlog.chunks:
+                head = backlog.chunks[0]
+                sent = None
+                if not impl.closed and connection in impl.connections:
+                    sent = self._send(impl, connection, head)
+                if sent is None:                       # the connection is gone
+                    backlog.chunks.clear()
+                    break
+                backlog.size -= sent
+                if sent < len(head):
+                    backlog.chunks[0] = head[sent:]
+                    break
+                backlog.chunks.popleft()
+            if not backlog.chunks:
+                del self._backlogs[connection]
+
+    @staticmethod
+    def _send(impl, connection, data):
+        """Bytes the socket took now (0 when full), or None when the connection failed and
+        was dropped."""
+        sock = connection.socket
+        if sock is None or connection.done:
+            impl.remove_connection(connection)
+            return None
+        try:
+            sent = sock.send(data, socket.MSG_DONTWAIT)
+        except BlockingIOError:
+            return 0
+        except OSError as e:       # rospy drops a failing connection too
+            rospy.logdebug("dropping connection to %s: %s", connection.endpoint_id, e)
+            impl.remove_connection(connection)
+            connection.close()
+            return None
+        connection.stat_bytes += sent
+        return sent

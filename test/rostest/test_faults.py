@@ -1,0 +1,127 @@
+#!/usr/bin/python3
+"""Faults survived, on the swarm reference load (10 e-pucks, a 160x120 camera at 10 Hz):
+a slow subscriber and a stopped one cost the others nothing and the simulator no memory; a
+client killed with SIGKILL and restarted finds the simulator as it was, latched state included."""
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+import unittest
+import xmlrpc.client
+
+import rosgraph
+import rospy
+import rostest
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Image, Range
+
+from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_for_message
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CLIENT = os.path.join(HERE, "fault_client.py")
+NOMINAL_HZ = 20.0                 # proximity topics: one message per 50 ms step
+
+
+def simulator_rss_mb():
+    master = rosgraph.Master(rospy.get_name())
+    pid = xmlrpc.client.ServerProxy(master.lookupNode("/vrep")).getPid(rospy.get_name())[2]
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    raise AssertionError("no VmRSS for the simulator")
+
+
+def start_client(*args):
+    return subprocess.Popen([sys.executable, CLIENT, *args], stdout=subprocess.PIPE, text=True)
+
+
+def wait_line(process, prefix, timeout_s=30.0):
+    """The first line of the process's output that starts with prefix."""
+    found = []
+
+    def read():
+        for line in process.stdout:
+            if line.startswith(prefix):
+                found.append(line.strip())
+                return
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    reader.join(timeout_s)
+    if not found:
+        raise AssertionError(f"{CLIENT} printed no '{prefix}' line in {timeout_s} s")
+    return found[0]
+
+
+class Faults(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_faults")
+        cls.guard = RosoutGuard()
+        wait_for_message("/clock", Clock)
+        wait_for_message("/ePuck0/camera", Image)
+
+    def _rate_per_sim_s(self, collector, seconds):
+        """Messages per simulated second over ``seconds`` of wall time, and sim/wall time."""
+        collector.clear()
+        s0, w0 = sim_time_now(), time.monotonic()
+        time.sleep(seconds)
+        s1, w1 = sim_time_now(), time.monotonic()
+        return len(collector.messages) / (s1 - s0), (s1 - s0) / (w1 - w0)
+
+    def test_a_slow_and_a_stopped_subscriber_cost_the_others_nothing(self):
+        others = Collector("/ePuck9/proximity0", Range)
+        base_rate, _ = self._rate_per_sim_s(others, 10.0)
+        self.assertAlmostEqual(base_rate, NOMINAL_HZ, delta=0.1 * NOMINAL_HZ)
+        # a subscriber that sleeps 1 s per camera image, and one that stops reading altogether
+        slow = rospy.Subscriber("/ePuck0/camera", Image, lambda m: time.sleep(1.0))
+        stuck = start_client("--mode", "reader")
+        try:
+            wait_line(stuck, "CONNECTED")
+            time.sleep(2.0)                    # its subscriptions are connected
+            stuck.send_signal(signal.SIGSTOP)
+            rss0 = simulator_rss_mb()
+            rate, speed = self._rate_per_sim_s(others, 60.0)
+            growth = simulator_rss_mb() - rss0
+        finally:
+            slow.unregister()
+            stuck.send_signal(signal.SIGCONT)
+            stuck.kill()
+            stuck.wait()
+        self.assertAlmostEqual(rate, NOMINAL_HZ, delta=0.1 * NOMINAL_HZ)
+        # not stalled: the clock went on (a blocked write would stop it for good)
+        self.assertGreater(speed, 0.5)
+        self.assertLess(growth, 50.0, f"simulator memory grew {growth:.1f} MB in 60 s")
+
+    def test_b_a_killed_client_restarts_and_gets_the_latched_state(self):
+        first = start_client("--mode", "client", "--set-led")
+        try:
+            # the LED command went through: the client sees the latched state change to it
+            deadline = time.monotonic() + 30
+            line = wait_line(first, "LATCHED")
+            while "LATCHED [1, 0, 1, 0, 1, 0, 1, 0, 1" not in line:
+                self.assertLess(time.monotonic(), deadline, line)
+                line = wait_line(first, "LATCHED")
+        finally:
+            first.send_signal(signal.SIGKILL)
+            first.wait()
+        clock = Collector("/clock", Clock)
+        time.sleep(2.0)                        # the simulator notices the dead connections
+        second = start_client("--mode", "client")
+        try:
+            line = wait_line(second, "LATCHED")
+        finally:
+            second.terminate()
+            second.wait()
+        self.assertIn("LATCHED [1, 0, 1, 0, 1, 0, 1, 0, 1", line)
+        n = len(clock.messages)
+        clock.wait(n + 20)                     # the simulator is still stepping
+
+    def test_zz_no_errors(self):
+        self.assertEqual(self.guard.errors, [])
+
+
+if __name__ == "__main__":
+    rostest.rosrun("epuck_vrep_compat", "faults", Faults)

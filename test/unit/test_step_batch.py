@@ -1,0 +1,125 @@
+"""StepBatch's data path against a real socket whose reader stops: flushing never blocks, the
+backlog stays bounded, whole messages arrive in order once the reader comes back, and a closed
+reader's connection is dropped."""
+import socket
+import struct
+
+import pytest
+
+from epuck_vrep_compat.ros.publishing import StepBatch
+
+FRAME = struct.Struct("<I")
+
+
+class FakeConnection:
+    """The parts of rospy's TCPROSTransport that StepBatch touches, on a real socket."""
+
+    def __init__(self, sock):
+        self.socket = sock
+        self.done = False
+        self.endpoint_id = "/slow_reader"
+        self.stat_bytes = 0
+
+    def close(self):
+        self.done = True
+
+
+class FakeImpl:
+    def __init__(self, connection):
+        self.connections = [connection]
+        self.closed = False
+        self.resolved_name = "/topic"
+
+    def remove_connection(self, connection):
+        self.connections = [c for c in self.connections if c is not connection]
+
+
+class FakePublisher:
+    def __init__(self, impl):
+        self.impl = impl
+
+
+@pytest.fixture
+def pair():
+    writer, reader = socket.socketpair()
+    writer.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 16384)
+    reader.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16384)
+    yield writer, reader
+    writer.close()
+    reader.close()
+
+
+def message(seq, size=10000):
+    body = struct.pack("<I", seq) + bytes(size - 4)
+    return FRAME.pack(len(body)) + body
+
+
+def read_all(sock):
+    sock.setblocking(False)
+    data = b""
+    while True:
+        try:
+            chunk = sock.recv(1 << 20)
+        except BlockingIOError:
+            return data
+        if not chunk:
+            return data
+        data += chunk
+
+
+def frames(data):
+    out, i = [], 0
+    while i < len(data):
+        (n,) = FRAME.unpack_from(data, i)
+        assert i + 4 + n <= len(data), "a partial message reached the reader"
+        out.append(struct.unpack_from("<I", data, i + 4)[0])
+        i += 4 + n
+    return out
+
+
+def test_a_reader_that_stops_never_blocks_the_writer_and_loses_only_whole_batches(pair):
+    writer, reader = pair
+    connection = FakeConnection(writer)
+    pub = FakePublisher(FakeImpl(connection))
+    cap = 100000
+    batch = StepBatch(max_backlog_bytes=cap)
+    for seq in range(500):                       # 5 MB, the reader takes nothing
+        batch.add_frame(pub, message(seq))
+        batch.flush()                            # would block forever with sendall
+        assert batch.backlog_bytes <= cap + 10004
+    assert batch.backlog_bytes > 0
+    received = frames(read_all(reader))
+    for _ in range(100):                         # the reader is back: the backlog drains
+        batch.flush()
+        received += frames(read_all(reader))
+        if batch.backlog_bytes == 0:
+            break
+    assert batch.backlog_bytes == 0
+    assert received == sorted(received) and len(set(received)) == len(received)
+    assert received[0] == 0 and received[-1] == 499
+    assert 10 < len(received) < 500             # some dropped, the rest whole and in order
+    assert connection in pub.impl.connections
+
+
+def test_a_fast_reader_gets_everything(pair):
+    writer, reader = pair
+    pub = FakePublisher(FakeImpl(FakeConnection(writer)))
+    batch = StepBatch()
+    received = []
+    for seq in range(200):
+        batch.add_frame(pub, message(seq, 100))
+        batch.add_frame(pub, message(1000 + seq, 100))
+        batch.flush()
+        received += frames(read_all(reader))
+    assert received == [v for seq in range(200) for v in (seq, 1000 + seq)]
+
+
+def test_a_closed_reader_is_dropped(pair):
+    writer, reader = pair
+    pub = FakePublisher(FakeImpl(FakeConnection(writer)))
+    batch = StepBatch()
+    reader.close()
+    for seq in range(3):
+        batch.add_frame(pub, message(seq))
+        batch.flush()
+    assert pub.impl.connections == []
