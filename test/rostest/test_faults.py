@@ -1,9 +1,13 @@
 #!/usr/bin/python3
 """Faults survived, on the swarm reference load (10 e-pucks, a 160x120 camera at 10 Hz):
 a slow subscriber and a stopped one cost the others nothing and the simulator no memory; a
-client killed with SIGKILL and restarted finds the simulator as it was, latched state included."""
+client killed with SIGKILL and restarted finds the simulator as it was, latched state included;
+a simulator killed with SIGKILL is respawned and the subscribers already there get data again;
+and a simulator whose master restarts or dies exits with status 3 instead of living on as a
+zombie (checked on a master and simulator of its own)."""
 import os
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -16,6 +20,7 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, Range
+from std_msgs.msg import UInt8MultiArray
 
 from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_for_message
 
@@ -24,10 +29,13 @@ CLIENT = os.path.join(HERE, "fault_client.py")
 NOMINAL_HZ = 20.0                 # proximity topics: one message per 50 ms step
 
 
+def simulator_pid(master_uri=None):
+    master = rosgraph.Master(rospy.get_name(), master_uri=master_uri)
+    return xmlrpc.client.ServerProxy(master.lookupNode("/vrep")).getPid(rospy.get_name())[2]
+
+
 def simulator_rss_mb():
-    master = rosgraph.Master(rospy.get_name())
-    pid = xmlrpc.client.ServerProxy(master.lookupNode("/vrep")).getPid(rospy.get_name())[2]
-    with open(f"/proc/{pid}/status") as f:
+    with open(f"/proc/{simulator_pid()}/status") as f:
         for line in f:
             if line.startswith("VmRSS:"):
                 return int(line.split()[1]) / 1024.0
@@ -118,6 +126,76 @@ class Faults(unittest.TestCase):
         self.assertIn("LATCHED [1, 0, 1, 0, 1, 0, 1, 0, 1", line)
         n = len(clock.messages)
         clock.wait(n + 20)                     # the simulator is still stepping
+
+    def _private_master(self, port):
+        uri = f"http://127.0.0.1:{port}"
+        master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        self._until(lambda: rosgraph.Master("/probe", master_uri=uri).is_online(), "master up")
+        return master, uri
+
+    def _until(self, condition, what, timeout_s=60.0):
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            try:
+                if condition():
+                    return
+            except (OSError, rosgraph.MasterException):
+                pass
+            time.sleep(0.1)
+        raise AssertionError(f"no {what} within {timeout_s} s")
+
+    def _private_simulator(self, uri):
+        env = dict(os.environ, ROS_MASTER_URI=uri, PYTHONFAULTHANDLER="1")
+        sim = subprocess.Popen(["rosrun", "epuck_vrep_compat", "epuck_sim", "_n:=1"], env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        master = rosgraph.Master("/probe", master_uri=uri)     # up: its services are there
+        self._until(lambda: master.lookupService("/vrep/simRosGetObjectHandle"),
+                    "simulator up")
+        return sim
+
+    @staticmethod
+    def _exit_output(sim, timeout_s=60.0):
+        """The simulator's output once it exits; a hung one is aborted (its threads' stacks
+        end up in the output) and the test fails with that output."""
+        try:
+            return sim.communicate(timeout=timeout_s)[0]
+        except subprocess.TimeoutExpired:
+            sim.send_signal(signal.SIGABRT)
+            out = sim.communicate()[0]
+            raise AssertionError(f"the simulator did not exit in {timeout_s} s:\n{out}")
+
+    def test_c_a_master_restart_or_loss_ends_the_simulator_with_status_3(self):
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        master, uri = self._private_master(port)
+        sim = self._private_simulator(uri)
+        master.terminate()                     # restarted at once: it knows nothing of /vrep
+        master.wait()
+        master, _ = self._private_master(port)
+        try:
+            out = self._exit_output(sim)
+            self.assertEqual(sim.returncode, 3, out)
+            self.assertIn("restarted: /vrep's registrations are lost", out)
+            sim = self._private_simulator(uri)  # and gone for good
+        finally:
+            master.terminate()
+            master.wait()
+        out = self._exit_output(sim)
+        self.assertEqual(sim.returncode, 3, out)
+        self.assertIn("has not answered for 3 s", out)
+
+    def test_y_a_killed_simulator_respawns_and_subscribers_get_data_again(self):
+        prox = Collector("/ePuck3/proximity0", Range)
+        prox.wait(5)
+        old = simulator_pid()
+        os.kill(old, signal.SIGKILL)
+        self._until(lambda: simulator_pid() != old, "respawned simulator")
+        prox.clear()
+        prox.wait(20, timeout_s=60)            # the subscriber from before receives again
+        state = rospy.wait_for_message("/ePuck0/led_state", UInt8MultiArray, timeout=30)
+        self.assertEqual(len(state.data), 10)   # latched state from the new simulator
 
     def test_zz_no_errors(self):
         self.assertEqual(self.guard.errors, [])

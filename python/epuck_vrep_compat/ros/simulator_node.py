@@ -24,6 +24,7 @@ from tf2_msgs.msg import TFMessage
 from epuck_vrep_compat.ros.camera_face import CameraFace
 from epuck_vrep_compat.ros.epuck_face import EpuckFace
 from epuck_vrep_compat.ros.led_face import LedFace
+from epuck_vrep_compat.ros.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.names import PROFILES
 from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
 from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
@@ -199,7 +200,10 @@ def main():
         sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
                          "roscore, or start the simulator with roslaunch\n")
         return 1
+    first_master_pid = master_pid("/" + NODE_NAME)
     rospy.init_node(NODE_NAME)
+    # watching from the start: rospy retries a vanished master forever while registering
+    MasterWatch(first_master_pid)
     package = rospkg.RosPack().get_path("epuck_vrep_compat")
     try:
         params = read_params(package + "/worlds/arena.yaml")
@@ -208,6 +212,10 @@ def main():
         rospy.logfatal("epuck_sim cannot start: %s", e)
         time.sleep(0.5)          # let the log line reach /rosout
         return 2
+    except OSError as e:         # the master stopped answering while we read parameters
+        rospy.logfatal("epuck_sim cannot start: the ROS master at %s stopped answering (%s)",
+                       rosgraph.get_master_uri(), e)
+        return EXIT_MASTER_LOST
     rospy.loginfo("epuck_sim: %s", params.summary())
     node.spin()
     return 0
