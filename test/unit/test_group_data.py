@@ -127,3 +127,30 @@ def test_joint_state_and_velocities_follow_the_motion(backend):
 def test_bad_types_raise(backend, object_type, data_type):
     with pytest.raises(VrepError):
         group_data(backend, object_type, data_type)
+
+
+def test_batched_poses_equal_one_pose_call_per_object_in_the_cell():
+    """group_data composes each world pose once and shares it with the descendants; relative
+    poses are local poses. Both must equal simRosGetObjectPose's answer, object by object,
+    on the deepest scene there is (arms of up to 16 joints) in a moved configuration."""
+    import os
+
+    from epuck_vrep_compat.scene.scene_file import load_scene
+    from epuck_vrep_compat.sim.control import RUNNING
+
+    world = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
+    sim = Simulation(load_scene(world), [])
+    try:
+        backend = VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True)
+        for _ in range(40):
+            sim.step()
+        for data_type, frame in ((9, vc.WORLD), (10, vc.HANDLE_PARENT)):
+            handles, _, floats, _ = group_data(backend, vc.APPOBJ_OBJECT, data_type)
+            got = np.array(floats).reshape(-1, 6)
+            for row, h in zip(got, handles):
+                p, q = backend.pose(h, frame)
+                np.testing.assert_allclose(row[:3], p, atol=1e-12, err_msg=backend.object_name(h))
+                turn = (row[3:] - vrep_euler_angles(q) + math.pi) % (2 * math.pi) - math.pi
+                np.testing.assert_allclose(turn, 0.0, atol=1e-9, err_msg=backend.object_name(h))
+    finally:
+        sim.cell.close()

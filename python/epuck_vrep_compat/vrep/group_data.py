@@ -8,7 +8,9 @@ return every object, as V-REP 3.2.1 did, which is what clients that index past e
 ROS-free: the ``/vrep`` service and the ``get_object_group_data`` stream both call
 :func:`group_data`.
 """
-from epuck_vrep_compat.scene.transforms import vrep_euler_angles
+import numpy as np
+
+from epuck_vrep_compat.scene.transforms import compose, vrep_euler_angles
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 
@@ -30,94 +32,122 @@ def _frame(data_type: int) -> int:
     return vc.HANDLE_PARENT if data_type % 2 == 0 else vc.WORLD
 
 
-def _position(backend, handle, data_type):
-    return list(backend.pose(handle, _frame(data_type))[0])
+class _Request:
+    """One request's backend and poses: each object's world pose is composed once and shared
+    by its descendants (a joint deep in an arm no longer walks the whole chain on its own),
+    and a pose relative to the parent is the object's own local pose."""
+
+    def __init__(self, backend):
+        self.backend = backend
+        self._registry = backend.sim.registry
+        self._world = {}
+
+    def pose(self, handle, data_type):
+        obj = self._registry.get(handle)
+        if _frame(data_type) == vc.HANDLE_PARENT:
+            p, q = obj.local_pose()
+            return np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+        return self._world_pose(obj)
+
+    def _world_pose(self, obj):
+        hit = self._world.get(obj.handle)
+        if hit is None:
+            p, q = obj.local_pose()
+            if obj.parent != vc.WORLD:
+                p, q = compose(*self._world_pose(self._registry.get(obj.parent)), p, q)
+            hit = self._world[obj.handle] = (np.asarray(p, dtype=float),
+                                             np.asarray(q, dtype=float))
+        return hit
 
 
-def _euler(backend, handle, data_type):
-    return vrep_euler_angles(backend.pose(handle, _frame(data_type))[1])
+def _position(req, handle, data_type):
+    return list(req.pose(handle, data_type)[0])
 
 
-def _quaternion(backend, handle, data_type):
-    return list(backend.pose(handle, _frame(data_type))[1])
+def _euler(req, handle, data_type):
+    return vrep_euler_angles(req.pose(handle, data_type)[1])
 
 
-def _names(backend, handle, _):
-    return (), (), (backend.object_name(handle),)
+def _quaternion(req, handle, data_type):
+    return list(req.pose(handle, data_type)[1])
 
 
-def _types(backend, handle, _):
-    return (backend.object_type(handle),), (), ()
+def _names(req, handle, _):
+    return (), (), (req.backend.object_name(handle),)
 
 
-def _parents(backend, handle, _):
-    return (backend.parent(handle),), (), ()
+def _types(req, handle, _):
+    return (req.backend.object_type(handle),), (), ()
 
 
-def _positions(backend, handle, data_type):
-    return (), _position(backend, handle, data_type), ()
+def _parents(req, handle, _):
+    return (req.backend.parent(handle),), (), ()
 
 
-def _eulers(backend, handle, data_type):
-    return (), _euler(backend, handle, data_type), ()
+def _positions(req, handle, data_type):
+    return (), _position(req, handle, data_type), ()
 
 
-def _quaternions(backend, handle, data_type):
-    return (), _quaternion(backend, handle, data_type), ()
+def _eulers(req, handle, data_type):
+    return (), _euler(req, handle, data_type), ()
 
 
-def _poses_euler(backend, handle, data_type):
-    return (), _position(backend, handle, data_type) + _euler(backend, handle, data_type), ()
+def _quaternions(req, handle, data_type):
+    return (), _quaternion(req, handle, data_type), ()
 
 
-def _poses_quaternion_as_plugin(backend, handle, data_type):
+def _poses_euler(req, handle, data_type):
+    return (), _position(req, handle, data_type) + _euler(req, handle, data_type), ()
+
+
+def _poses_quaternion_as_plugin(req, handle, data_type):
     # The plugin's bug, reproduced: it fills the "quaternion" with simGetObjectOrientation, so
     # clients get 3 Euler angles and a fourth, never written value (0.0 here) instead of a
     # quaternion.
-    floats = _position(backend, handle, data_type) + _euler(backend, handle, data_type)
+    floats = _position(req, handle, data_type) + _euler(req, handle, data_type)
     return (), floats + [0.0], ()
 
 
-def _proximity(backend, handle, _):
-    if backend.object_type(handle) != vc.OBJECT_PROXIMITY_SENSOR:
+def _proximity(req, handle, _):
+    if req.backend.object_type(handle) != vc.OBJECT_PROXIMITY_SENSOR:
         return (-1, -1), [0.0] * 6, ()
-    state, point, detected, normal = backend.proximity(handle)
+    state, point, detected, normal = req.backend.proximity(handle)
     return (int(state), int(detected)), list(point) + list(normal), ()
 
 
-def _force(backend, handle, _):
-    if backend.object_type(handle) != vc.OBJECT_FORCE_SENSOR:
+def _force(req, handle, _):
+    if req.backend.object_type(handle) != vc.OBJECT_FORCE_SENSOR:
         return (-1,), [0.0] * 6, ()
-    state, force, torque = backend.read_force_sensor(handle)
+    state, force, torque = req.backend.read_force_sensor(handle)
     return (int(state),), list(force) + list(torque), ()
 
 
-def _joint_state(backend, handle, _):
-    if backend.object_type(handle) != vc.OBJECT_JOINT:
+def _joint_state(req, handle, _):
+    if req.backend.object_type(handle) != vc.OBJECT_JOINT:
         return (), [0.0, 0.0], ()
-    position, _velocity, effort = backend.joint_state(handle)
+    position, _velocity, effort = req.backend.joint_state(handle)
     return (), [position, effort], ()
 
 
-def _joint_properties(backend, handle, _):
-    if backend.object_type(handle) != vc.OBJECT_JOINT:
+def _joint_properties(req, handle, _):
+    if req.backend.object_type(handle) != vc.OBJECT_JOINT:
         return (-1, -1), [0.0, 0.0], ()
-    joint = backend.joint(handle)
+    joint = req.backend.joint(handle)
     mode = joint.mode | (vc.JOINTMODE_HYBRID_FLAG if getattr(joint, "hybrid", False) else 0)
     span = -1.0 if joint.cyclic else joint.range_span
     return (joint.joint_type, mode), [joint.range_min, span], ()
 
 
-def _linear_velocity(backend, handle, _):
-    return (), list(backend.velocity(handle)[0]), ()
+def _linear_velocity(req, handle, _):
+    return (), list(req.backend.velocity(handle)[0]), ()
 
 
-def _angular_velocity(backend, handle, _):
-    return (), list(backend.velocity(handle)[1]), ()
+def _angular_velocity(req, handle, _):
+    return (), list(req.backend.velocity(handle)[1]), ()
 
 
-def _twist(backend, handle, _):
-    linear, angular = backend.velocity(handle)
+def _twist(req, handle, _):
+    linear, angular = req.backend.velocity(handle)
     return (), list(linear) + list(angular), ()
 
 
@@ -152,9 +182,10 @@ def group_data(backend, object_type: int, data_type: int):
     if reader is None:
         raise VrepError(f"data type {data_type} is not one of 0..19")
     handles = group_handles(backend, object_type)
+    request = _Request(backend)
     ints, floats, strings = [], [], []
     for handle in handles:
-        i, f, s = reader(backend, handle, data_type)
+        i, f, s = reader(request, handle, data_type)
         ints.extend(int(v) for v in i)
         floats.extend(float(v) for v in f)
         strings.extend(s)
