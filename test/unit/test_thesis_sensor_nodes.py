@@ -38,7 +38,8 @@ def test_depth_buffer_keeps_vreps_values_and_says_its_shape():
     msg = depth_buffer_message([3, 2], [0.0, 0.1, 0.2, 0.3, 0.4, 1.0])
     assert [(d.label, d.size, d.stride) for d in msg.layout.dim] == [("height", 2, 6),
                                                                      ("width", 3, 3)]
-    assert list(msg.data) == [0.0, 0.1, 0.2, 0.3, 0.4, 1.0]
+    # float32[] on the wire: the values as V-REP's float buffer holds them
+    np.testing.assert_array_equal(msg.data, np.float32([0.0, 0.1, 0.2, 0.3, 0.4, 1.0]))
 
 
 def test_depth_image_in_metres_top_row_first():

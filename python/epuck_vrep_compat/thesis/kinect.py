@@ -25,8 +25,11 @@ from typing import Optional, Sequence
 import numpy as np
 import rospy
 from sensor_msgs.msg import Image
+from rospy.numpy_msg import numpy_msg
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension
-from vrep_common.srv import simRosGetObjectFloatParameter, simRosGetVisionSensorDepthBuffer
+from vrep_common.srv import (
+    simRosGetObjectFloatParameter, simRosGetVisionSensorDepthBuffer,
+    simRosGetVisionSensorDepthBufferResponse)
 
 from epuck_vrep_compat.thesis import names, params
 from epuck_vrep_compat.thesis.cameras import IMAGE_SERVICES, read_image, stamp_header
@@ -37,9 +40,19 @@ DEFAULT_NEAR_M = 0.5
 DEFAULT_FAR_M = 5.0
 
 
+class DepthBufferAsArray(simRosGetVisionSensorDepthBuffer):
+    """simRosGetVisionSensorDepthBuffer whose response's ``buffer`` arrives as a numpy float32
+    array (the same service on the wire): 307 200 values are one copy, not 307 200 floats."""
+    _response_class = numpy_msg(simRosGetVisionSensorDepthBufferResponse)
+
+
+_Float32MultiArrayOfArray = numpy_msg(Float32MultiArray)
+
+
 def depth_buffer_message(resolution: Sequence[int], buffer: Sequence[float]) -> Float32MultiArray:
+    """A std_msgs/Float32MultiArray (its data a numpy array, written to the wire in one copy)."""
     width, height = resolution
-    msg = Float32MultiArray(data=list(buffer))
+    msg = _Float32MultiArrayOfArray(data=np.asarray(buffer, dtype=np.float32))
     msg.layout.dim = [MultiArrayDimension(label="height", size=height, stride=width * height),
                       MultiArrayDimension(label="width", size=width, stride=width)]
     return msg
@@ -68,7 +81,7 @@ class Kinect:
         self.far_m = params.read_float("far_clipping_m", DEFAULT_FAR_M, minimum=self.near_m)
         self.rate_hz = params.read_rate_hz()
         self.client = VrepClient(dict(
-            IMAGE_SERVICES, simRosGetVisionSensorDepthBuffer=simRosGetVisionSensorDepthBuffer,
+            IMAGE_SERVICES, simRosGetVisionSensorDepthBuffer=DepthBufferAsArray,
             simRosGetObjectFloatParameter=simRosGetObjectFloatParameter))
         # images and buffers: only the newest is worth sending
         self._buffer_pub = rospy.Publisher(names.KINECT_DEPTH_BUFFER_TOPIC, Float32MultiArray,
