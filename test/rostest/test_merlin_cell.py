@@ -15,6 +15,7 @@ import rospkg
 import rospy
 import rostest
 import tf2_ros
+from geometry_msgs.msg import Twist, Vector3
 from sensor_msgs.msg import Image, JointState, LaserScan
 from std_msgs.msg import Float32MultiArray
 from visualization_msgs.msg import MarkerArray
@@ -327,6 +328,58 @@ class MerlinCell(unittest.TestCase):
         self.assertIn(("operator", "Bill"), frames)
         self.assertIn(("devices", LASER), frames)
         self.assertIn(("devices", "camera0"), frames)
+
+    def test_10_command_topics_drive_the_robots_and_refuse_bad_input(self):
+        names = [f"IRB140_joint{k}" for k in range(1, 7)]
+        arm = rospy.Publisher("/IRB140/joint_command", JointState, queue_size=10)
+        base = rospy.Publisher("/youBot/cmd_vel", Twist, queue_size=10)
+        deadline = time.monotonic() + 20
+        while (arm.get_num_connections() == 0 or base.get_num_connections() == 0) \
+                and time.monotonic() < deadline:
+            time.sleep(0.05)
+        # bad commands first: each refused with a warning, nothing moves to a non-finite value
+        arm.publish(JointState(position=[math.nan] * 6))
+        arm.publish(JointState(name=["IRB140_joint1"], position=[0.1, 0.2]))
+        arm.publish(JointState(name=["no_such_joint"], position=[0.1]))
+        base.publish(Twist(linear=Vector3(math.inf, 0, 0)))
+        # then a good one: positions as targets, reached under the joints' speed limits
+        target = [0.2, 0.1, -0.2, 0.3, 0.2, -0.3]
+        arm.publish(JointState(name=names, position=target))
+        states = Collector("/IRB140/joint_states", JointState)
+        reached = False
+        for _ in range(60):
+            wait_sim_time(0.1)
+            last = states.latest()
+            if last is not None and np.allclose(last.position, target, atol=5e-3):
+                reached = True
+                break
+        self.assertTrue(reached, f"IRB140 at {states.latest().position}, target {target}")
+        self.assertTrue(all(math.isfinite(v) for m in states.messages for v in m.position))
+        for text in ("value nan; ignored", "1 names but 2 values", "unknown joint 'no_such_joint'",
+                     "non-finite twist ignored"):
+            self.assertTrue(any(text in w for w in self.guard.warnings), text)
+        # a velocity command turns a joint at that speed
+        arm.publish(JointState(name=["IRB140_joint1"], velocity=[0.2]))
+        wait_sim_time(0.5)
+        q0 = states.latest().position[0]
+        wait_sim_time(1.0)
+        self.assertAlmostEqual(states.latest().position[0] - q0, 0.2, delta=0.03)
+        arm.publish(JointState(name=["IRB140_joint1"], velocity=[0.0]))
+        # the youBot's base drives forward along its heading at the commanded speed
+        bot = handle("youBot")
+        twist = Twist(linear=Vector3(0.1, 0, 0))
+        base.publish(twist)
+        wait_sim_time(0.3)
+        p0, q0 = pose(bot)
+        t0 = sim_time_now()
+        while sim_time_now() - t0 < 2.0:
+            base.publish(twist)
+            wait_sim_time(0.1)
+        p1, _ = pose(bot)
+        elapsed = sim_time_now() - t0
+        heading = quat_rotate(q0, np.array([1.0, 0.0, 0.0]))
+        self.assertAlmostEqual(float(np.dot(p1 - p0, heading)), 0.1 * elapsed, delta=0.03)
+        base.publish(Twist())
 
     def test_98_cell_objects_are_removed_through_vrep(self):
         """simRosRemoveObject/simRosRemoveModel on the cell (last: the scene changes)."""

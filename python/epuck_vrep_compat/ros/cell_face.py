@@ -35,6 +35,7 @@ from vrep_common.srv import simRosEnablePublisherRequest
 from epuck_vrep_compat.cell.articulated import POSITION, VELOCITY
 from epuck_vrep_compat.ros import names
 from epuck_vrep_compat.ros.led_face import shape_marker
+from epuck_vrep_compat.ros.log import ThrottledLog
 from epuck_vrep_compat.ros.publishing import synchronous_publisher
 from epuck_vrep_compat.ros.wire import TransformBatchWire
 from epuck_vrep_compat.sim.control import STOPPED
@@ -53,6 +54,7 @@ class CellFace:
         self._backend = vrep_face.backend
         self._lock = lock
         self._blob_enabled = False
+        self._log = ThrottledLog()
         self._backend.control.listeners.append(self._on_state)
         cell = self.cell
         self._scan = None
@@ -193,16 +195,18 @@ class CellFace:
         names = list(msg.name) if msg.name else arm.joint_names()
         values, mode = (msg.position, POSITION) if msg.position else (msg.velocity, VELOCITY)
         if len(values) != len(names):
-            rospy.logwarn_throttle(5.0, "/%s/joint_command: %d names but %d values; ignored",
-                                   arm.spec.name, len(names), len(values))
+            self._log.warn(f"{arm.spec.name}:lengths",
+                           "/%s/joint_command: %d names but %d values; ignored",
+                           arm.spec.name, len(names), len(values))
             return
         with self._lock:
             for name, value in zip(names, values):
                 k = arm.movable_index(name)
                 if k is None or not math.isfinite(value):
-                    rospy.logwarn_throttle(5.0, "/%s/joint_command: %s joint '%s' value %s; "
-                                           "ignored", arm.spec.name,
-                                           "unknown" if k is None else "bad", name, value)
+                    self._log.warn(f"{arm.spec.name}:{name}:{k is None}",
+                                   "/%s/joint_command: %s joint '%s' value %s; ignored",
+                                   arm.spec.name, "unknown" if k is None else "bad", name,
+                                   value)
                     continue
                 joint = arm.joints[k]
                 if mode == POSITION:
@@ -213,7 +217,8 @@ class CellFace:
     def _on_cmd_vel(self, msg, arm):
         v = (msg.linear.x, msg.linear.y, msg.angular.z)
         if not all(math.isfinite(x) for x in v):
-            rospy.logwarn_throttle(5.0, "/%s/cmd_vel: non-finite twist ignored", arm.spec.name)
+            self._log.warn(f"{arm.spec.name}:cmd_vel", "/%s/cmd_vel: non-finite twist ignored",
+                           arm.spec.name)
             return
         with self._lock:
             arm.set_twist(*v)

@@ -15,6 +15,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, Range
 
 from epuck_vrep_compat.ros import commands, driver_scan, names, wire
+from epuck_vrep_compat.ros.log import ThrottledLog
 from epuck_vrep_compat.ros.publishing import synchronous_publisher
 
 GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
@@ -87,6 +88,7 @@ class EpuckFace:
         self.scaling = cmd_vel_scaling
         self.publish_ground_truth = publish_ground_truth
         self.gravity_sign = GRAVITY_SIGN[accel_sign]
+        self._log = ThrottledLog()
         self.connections = np.zeros(0, dtype=np.int64)
         self.connections_lock = threading.Lock()
         self.robots = []
@@ -148,9 +150,9 @@ class EpuckFace:
         wheels = commands.wheel_speeds(self.scaling, msg.linear.x, msg.angular.z,
                                        model.wheel_radius_m, model.wheel_separation_m)
         if wheels is None or not self.sim.set_wheel_speeds(name, *wheels):
-            rospy.logwarn_throttle(
-                5.0, f"{name}: cmd_vel with a non-finite value refused "
-                     f"(linear.x={msg.linear.x}, angular.z={msg.angular.z}); wheels unchanged")
+            self._log.warn(f"{name}:cmd_vel", "%s: cmd_vel with a non-finite value refused "
+                           "(linear.x=%s, angular.z=%s); wheels unchanged", name, msg.linear.x,
+                           msg.angular.z)
 
     # --- per step ------------------------------------------------------------------------
     def publish(self, batch, secs: int, nsecs: int):

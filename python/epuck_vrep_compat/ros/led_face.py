@@ -13,6 +13,7 @@ from std_msgs.msg import ColorRGBA, UInt8MultiArray
 from visualization_msgs.msg import Marker, MarkerArray
 
 from epuck_vrep_compat.ros import commands, names
+from epuck_vrep_compat.ros.log import ThrottledLog
 from epuck_vrep_compat.scene.epuck_model import led_positions
 
 MARKER_TOPIC = "/vrep/markers"
@@ -26,6 +27,7 @@ class LedFace:
         self.sim = sim
         self._lock = threading.Lock()
         self._robots = {}             # robot name -> _Leds
+        self._log = ThrottledLog()
         self._markers = rospy.Publisher(MARKER_TOPIC, MarkerArray, queue_size=1, latch=True)
         self.sync()
 
@@ -48,7 +50,7 @@ class LedFace:
             result = commands.apply_led_command(self.profile.name, leds.state,
                                                 bytearray(msg.data))
             if isinstance(result, str):
-                rospy.logwarn_throttle(5.0, f"{name}: {result}; ignored")
+                self._log.warn(f"{name}:cmd_led", "%s: %s; ignored", name, result)
                 return
             leds.state = np.array(result, dtype=np.uint8)
             leds.dirty = True

@@ -25,6 +25,7 @@ from vrep_common.srv import (
     simRosDisablePublisherResponse, simRosDisableSubscriberResponse,
     simRosEnablePublisherResponse, simRosEnableSubscriberResponse)
 
+from epuck_vrep_compat.ros.log import ThrottledLog
 from epuck_vrep_compat.ros.publishing import synchronous_publisher
 from epuck_vrep_compat.ros.vrep_stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
@@ -94,6 +95,7 @@ class VrepStreams:
         self._next_subscriber_id = 0
         self._tf = None                   # /tf publisher while get_transform streams exist
         self._subscriber_kinds = subscriber_kinds(self._status_bar)
+        self._log = ThrottledLog(WARN_PERIOD_S)
 
     # --- publishers -----------------------------------------------------------------------
     def enable_publisher(self, req) -> simRosEnablePublisherResponse:
@@ -294,7 +296,7 @@ class VrepStreams:
 
     def _warn(self, message: str):
         self.backend.errors.add(message)
-        rospy.logwarn_throttle(WARN_PERIOD_S, message)
+        self._log.warn(message, "%s", message)
 
     @staticmethod
     def _status_bar(text: str):

@@ -12,32 +12,13 @@ from typing import Callable, Dict, Optional
 
 import rospy
 
+from epuck_vrep_compat.ros.log import ThrottledLog
 from epuck_vrep_compat.thesis.names import VREP_NODE
 from epuck_vrep_compat.thesis.params import ParamError
 from epuck_vrep_compat.vrep import constants as vc
 
 FIRST_WAIT_S = 1.0          # the first "waiting for" line comes after this long
 WAIT_LOG_PERIOD_S = 5.0     # then one line per period until the service is up
-WARN_PERIOD_S = 5.0         # per-cycle failures: one warning per kind and period
-
-
-class ThrottledLog:
-    """Warnings from per-cycle code: at most one per key and period (wall time, so a paused
-    simulation does not silence them)."""
-
-    def __init__(self, period_s: float = WARN_PERIOD_S):
-        self._period_s = period_s
-        self._last: Dict[str, float] = {}
-        self._lock = threading.Lock()
-
-    def warn(self, key: str, fmt: str, *args):
-        now = time.monotonic()
-        with self._lock:
-            last = self._last.get(key)
-            if last is not None and now - last < self._period_s:
-                return
-            self._last[key] = now
-        rospy.logwarn(fmt, *args)
 
 
 class VrepClient:
