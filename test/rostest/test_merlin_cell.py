@@ -10,14 +10,17 @@ import tempfile
 import time
 import unittest
 
+import hypothesis.strategies as st
 import numpy as np
 import rospkg
 import rospy
 import rostest
 import tf2_ros
 from geometry_msgs.msg import Twist, Vector3
+from hypothesis import HealthCheck, given, seed, settings
 from sensor_msgs.msg import Image, JointState, LaserScan
 from std_msgs.msg import Float32MultiArray
+from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 
 from epuck_vrep_compat.cell.kinematics import load_urdf_chain
@@ -36,6 +39,10 @@ OPERATOR_RADIUS_M = 0.2
 OPERATOR_SPEED_M_S = 1.2
 OPERATOR_HEIGHT_M = 1.3 + 2 * 0.11
 TABLE_TOP_Z = 0.75
+FLOATS = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
+                   st.sampled_from([0.0, -0.0, 1e308, -1e308, 5e-324, 0.5, -0.3]))
+JOINT_NAMES = st.sampled_from(["IRB140_joint1", "IRB140_joint6", "SIX_joint7", "youBot",
+                               "no_such_joint", ""])
 
 
 def pose(h, relative=WORLD):
@@ -380,6 +387,60 @@ class MerlinCell(unittest.TestCase):
         heading = quat_rotate(q0, np.array([1.0, 0.0, 0.0]))
         self.assertAlmostEqual(float(np.dot(p1 - p0, heading)), 0.1 * elapsed, delta=0.03)
         base.publish(Twist())
+
+    @seed(20261122)
+    @settings(max_examples=1000, deadline=None, database=None,
+              suppress_health_check=list(HealthCheck))
+    @given(st.lists(JOINT_NAMES, max_size=8), st.lists(FLOATS, max_size=8),
+           st.lists(FLOATS, max_size=8), st.tuples(FLOATS, FLOATS, FLOATS))
+    def test_11_fuzzed_cell_commands(self, names, positions, velocities, twist):
+        cls = type(self)
+        if not hasattr(cls, "fuzz_arm"):
+            cls.fuzz_arm = rospy.Publisher("/IRB140/joint_command", JointState, queue_size=100)
+            cls.fuzz_base = rospy.Publisher("/youBot/cmd_vel", Twist, queue_size=100)
+            time.sleep(1.0)                     # connected
+        cls.fuzz_arm.publish(JointState(name=names, position=positions, velocity=velocities))
+        cls.fuzz_base.publish(Twist(linear=Vector3(twist[0], twist[1], 0.0),
+                                    angular=Vector3(0.0, 0.0, twist[2])))
+        time.sleep(0.002)
+
+    def test_12_alive_and_finite_after_fuzzing(self):
+        wait_sim_time(1.0)                      # the simulation still steps
+        for robot in ("IRB140", "youBot"):
+            msg = rospy.wait_for_message(f"/{robot}/joint_states", JointState, timeout=30)
+            self.assertTrue(all(math.isfinite(v) for v in msg.position + msg.velocity), robot)
+        p, q = pose(handle("youBot"))
+        self.assertTrue(np.all(np.isfinite(p)) and np.all(np.isfinite(q)))
+        tf = rospy.wait_for_message("/tf", TFMessage, timeout=30)
+        for t in tf.transforms:
+            v = t.transform
+            self.assertTrue(all(math.isfinite(x) for x in (
+                v.translation.x, v.translation.y, v.translation.z, v.rotation.x, v.rotation.y,
+                v.rotation.z, v.rotation.w)), t.child_frame_id)
+        # huge speeds are held to the robots' limits: a joint to its URDF velocity limit, the
+        # youBot's base to its top speed (0.8 m/s at the fastest wheel), with a warning
+        path = os.path.join(rospkg.RosPack().get_path("epuck_vrep_compat"), "models",
+                            "irb140.urdf")
+        limit = {j.name: j.limits.velocity for j in load_urdf_chain(path).joints
+                 if j.limits is not None}["IRB140_joint1"]
+        self.fuzz_arm.publish(JointState(name=["IRB140_joint1"], velocity=[1e308]))
+        self.fuzz_base.publish(Twist(linear=Vector3(1e308, 0.0, 0.0)))
+        wait_sim_time(0.5)
+        p0, _ = pose(handle("youBot"))
+        arm = Collector("/IRB140/joint_states", JointState)
+        t0 = sim_time_now()
+        wait_sim_time(1.0)
+        p1, _ = pose(handle("youBot"))
+        elapsed = sim_time_now() - t0
+        speeds = [m.velocity[0] for m in arm.wait(10)]
+        arm.unregister()
+        self.fuzz_arm.publish(JointState(name=["IRB140_joint1"], velocity=[0.0]))
+        self.fuzz_base.publish(Twist())
+        self.assertLessEqual(max(abs(v) for v in speeds), 1.05 * limit)
+        self.assertGreater(max(abs(v) for v in speeds), 0.5 * limit)
+        self.assertLessEqual(np.linalg.norm(p1[:2] - p0[:2]), 0.8 * elapsed + 0.05)
+        for text in ("clamped to its limit", "(the base's top speed)"):
+            self.assertTrue(any(text in w for w in self.guard.warnings), text)
 
     def test_98_cell_objects_are_removed_through_vrep(self):
         """simRosRemoveObject/simRosRemoveModel on the cell (last: the scene changes)."""

@@ -33,6 +33,7 @@ DEFAULT_EFFORT = 100.0        # N m or N, for a joint whose URDF gives no effort
 WHEELS = ("fl", "rl", "rr", "fr")
 WHEEL_RADIUS_M = 0.0475
 WHEEL_LX_PLUS_LY_M = 0.228 + 0.158
+MAX_WHEEL_SPEED_M_S = 0.8       # the youBot datasheet's top speed (models.md 4.1)
 
 
 @dataclass
@@ -129,9 +130,12 @@ class ArmJoint:
         self._finite("target position", value)
         self._robot.command(self.index, POSITION, self._clamped(value))
 
-    def set_target_velocity(self, value: float):
+    def set_target_velocity(self, value: float) -> float:
+        """Returns the velocity applied: the motor's limit (the URDF's) bounds it."""
         self._finite("target velocity", value)
-        self._robot.command(self.index, VELOCITY, value)
+        applied = min(max(value, -self.max_velocity), self.max_velocity)
+        self._robot.command(self.index, VELOCITY, applied)
+        return applied
 
     def set_position(self, value: float):
         self._finite("position", value)
@@ -239,8 +243,14 @@ class ArticulatedRobot:
         self.read_state()
 
     def set_twist(self, vx: float, vy: float, wz: float, external: bool = True):
-        self.twist[:] = (vx, vy, wz)
+        """Returns the twist applied: scaled down, direction kept, so that no mecanum wheel
+        runs faster than the base's top speed (youBot: about 0.8 m/s)."""
+        spin = WHEEL_LX_PLUS_LY_M * wz
+        fastest = max(abs(vx) + abs(vy) + abs(spin), 1e-300)
+        scale = min(1.0, MAX_WHEEL_SPEED_M_S / fastest)
+        self.twist[:] = (vx * scale, vy * scale, wz * scale)
         self.external = self.external or external
+        return tuple(float(v) for v in self.twist)
 
     def apply_commands(self):
         for k, joint in enumerate(self.joints):

@@ -211,8 +211,10 @@ class CellFace:
                 joint = arm.joints[k]
                 if mode == POSITION:
                     joint.set_target_position(value)
-                else:
-                    joint.set_target_velocity(value)
+                elif joint.set_target_velocity(value) != value:
+                    self._log.warn(f"{arm.spec.name}:{name}:speed",
+                                   "/%s/joint_command: joint '%s' velocity %s clamped to its "
+                                   "limit %s", arm.spec.name, name, value, joint.max_velocity)
 
     def _on_cmd_vel(self, msg, arm):
         v = (msg.linear.x, msg.linear.y, msg.angular.z)
@@ -221,7 +223,11 @@ class CellFace:
                            arm.spec.name)
             return
         with self._lock:
-            arm.set_twist(*v)
+            applied = arm.set_twist(*v)
+        if applied != v:
+            self._log.warn(f"{arm.spec.name}:cmd_vel:speed", "/%s/cmd_vel: twist %s scaled to "
+                           "%s (the base's top speed)", arm.spec.name,
+                           tuple(round(x, 3) for x in v), tuple(round(x, 3) for x in applied))
 
     # --- per step ------------------------------------------------------------------------
     def _on_state(self, state):
