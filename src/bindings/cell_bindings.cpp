@@ -10,6 +10,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include "binding_helpers.hpp"
 #include "epuck_vrep_compat/blob_detection.hpp"
 #include "epuck_vrep_compat/collision_world.hpp"
 #include "epuck_vrep_compat/depth_noise.hpp"
@@ -22,8 +23,10 @@ using namespace py::literals;
 namespace evc {
 namespace {
 
-using MatrixRef = Eigen::Ref<const RowMatrixXd>;
-using VectorRef = Eigen::Ref<const VectorXd>;
+using bindings::array_copy;
+using bindings::MatrixRef;
+using bindings::pose_of;
+using bindings::VectorRef;
 
 std::invalid_argument bad(const char* name, const std::string& requirement) {
   return std::invalid_argument(std::string(name) + " must " + requirement);
@@ -44,12 +47,6 @@ std::vector<Pose> poses_of(const MatrixRef& positions, const MatrixRef& quaterni
   return poses;
 }
 
-Pose pose_of(const VectorRef& position, const VectorRef& quaternion) {
-  if (position.size() != 3) throw bad("position", "hold 3 values");
-  if (quaternion.size() != 4) throw bad("quaternion", "hold 4 values (x, y, z, w)");
-  return Pose{position, Quat(quaternion[3], quaternion[0], quaternion[1], quaternion[2])};
-}
-
 // count handles from an (count,) integer array, or from one int repeated if @p scalar_ok.
 std::vector<int> handles_of(const py::object& value, std::size_t count, const char* name,
                             bool scalar_ok) {
@@ -63,13 +60,6 @@ std::vector<int> handles_of(const py::object& value, std::size_t count, const ch
                         std::to_string(count) + ",)");
   }
   return std::vector<int>(ints.data(), ints.data() + count);
-}
-
-template <typename T>
-py::array_t<T> array_of(const std::vector<T>& data, std::vector<py::ssize_t> shape) {
-  py::array_t<T> out(shape);
-  std::memcpy(out.mutable_data(), data.data(), data.size() * sizeof(T));
-  return out;
 }
 
 void bind_set_poses(py::module_& m) {
@@ -156,7 +146,7 @@ void bind_laser(py::module_& m) {
               py::gil_scoped_release release;
               ranges = s.scan(world, pose, ignore_handle, mask);
             }
-            return array_of(ranges, {static_cast<py::ssize_t>(ranges.size())});
+            return array_copy(ranges, {static_cast<py::ssize_t>(ranges.size())});
           },
           "world"_a, "position"_a, "quaternion"_a, "ignore_handle"_a = -1,
           "mask"_a = int(kGroupAll),
@@ -239,7 +229,7 @@ void bind_blobs(py::module_& m) {
           packet = blob_packet(
               detect_blobs(pixels.data(), height, width, rgb ? 3 : 1, threshold, min_size));
         }
-        return array_of(packet, {static_cast<py::ssize_t>(packet.size())});
+        return array_copy(packet, {static_cast<py::ssize_t>(packet.size())});
       },
       "image"_a, "threshold"_a = 0.5, "min_size"_a = 0.0,
       "V-REP's blob detection on an image whose row 0 is the TOP. Object pixels: nonzero in "

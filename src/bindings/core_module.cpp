@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "binding_helpers.hpp"
 #include "epuck_vrep_compat/collision_world.hpp"
 #include "epuck_vrep_compat/cone_sensor.hpp"
 #include "epuck_vrep_compat/epuck_model.hpp"
@@ -24,40 +25,15 @@ using namespace py::literals;
 namespace evc {
 namespace {
 
-using VectorRef = Eigen::Ref<const VectorXd>;
-using MatrixRef = Eigen::Ref<const RowMatrixXd>;
-
-VectorXd finite_vector(const VectorRef& values, Eigen::Index size, const char* name) {
-  if (values.size() != size || !values.allFinite()) {
-    throw std::invalid_argument(std::string(name) + " must hold " + std::to_string(size) +
-                                " finite values");
-  }
-  return values;
-}
-
-Vec3 vec3(const VectorRef& values, const char* name) { return finite_vector(values, 3, name); }
-
-Quat quat_xyzw(const VectorRef& values, const char* name) {
-  const VectorXd q = finite_vector(values, 4, name);
-  if (q.norm() < 1e-9) throw std::invalid_argument(std::string(name) + " must be non-zero");
-  return Quat(q[3], q[0], q[1], q[2]).normalized();
-}
-
-Pose pose_of(const VectorRef& position, const VectorRef& quaternion) {
-  return Pose{vec3(position, "position"), quat_xyzw(quaternion, "quaternion")};
-}
+using bindings::array_copy;
+using bindings::MatrixRef;
+using bindings::pose_of;
+using bindings::vec3;
+using bindings::VectorRef;
 
 py::tuple pose_tuple(const Pose& pose) {
   const Quat& q = pose.orientation;
   return py::make_tuple(VectorXd(pose.position_m), Eigen::Vector4d(q.x(), q.y(), q.z(), q.w()));
-}
-
-// Numpy arrays of the given shape holding a copy of the data.
-template <typename T>
-py::array_t<T> array_copy(const std::vector<T>& data, std::vector<py::ssize_t> shape) {
-  py::array_t<T> out(shape);
-  std::memcpy(out.mutable_data(), data.data(), data.size() * sizeof(T));
-  return out;
 }
 
 py::array per_sensor_3d(const RowMatrixXd& rows, const EpuckSwarm& swarm) {
