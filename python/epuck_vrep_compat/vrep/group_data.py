@@ -60,16 +60,9 @@ class _Request:
         return hit
 
 
-def _position(req, handle, data_type):
-    return list(req.pose(handle, data_type)[0])
-
-
-def _euler(req, handle, data_type):
-    return vrep_euler_angles(req.pose(handle, data_type)[1])
-
-
-def _quaternion(req, handle, data_type):
-    return list(req.pose(handle, data_type)[1])
+def _position_and_euler(req, handle, data_type):
+    p, q = req.pose(handle, data_type)
+    return list(p) + list(vrep_euler_angles(q))
 
 
 def _names(req, handle, _):
@@ -85,27 +78,26 @@ def _parents(req, handle, _):
 
 
 def _positions(req, handle, data_type):
-    return (), _position(req, handle, data_type), ()
+    return (), list(req.pose(handle, data_type)[0]), ()
 
 
 def _eulers(req, handle, data_type):
-    return (), _euler(req, handle, data_type), ()
+    return (), vrep_euler_angles(req.pose(handle, data_type)[1]), ()
 
 
 def _quaternions(req, handle, data_type):
-    return (), _quaternion(req, handle, data_type), ()
+    return (), list(req.pose(handle, data_type)[1]), ()
 
 
 def _poses_euler(req, handle, data_type):
-    return (), _position(req, handle, data_type) + _euler(req, handle, data_type), ()
+    return (), _position_and_euler(req, handle, data_type), ()
 
 
 def _poses_quaternion_as_plugin(req, handle, data_type):
     # The plugin's bug, reproduced: it fills the "quaternion" with simGetObjectOrientation, so
     # clients get 3 Euler angles and a fourth, never written value (0.0 here) instead of a
     # quaternion.
-    floats = _position(req, handle, data_type) + _euler(req, handle, data_type)
-    return (), floats + [0.0], ()
+    return (), _position_and_euler(req, handle, data_type) + [0.0], ()
 
 
 def _proximity(req, handle, _):
