@@ -388,35 +388,29 @@ class Cell:
         return obj.robot in self.arm_by_name or (
             self.operator is not None and obj.handle in self.operator_handles)
 
-    def remove_object(self, obj):
+    def claims_removal(self, obj) -> bool:
         """simRemoveObject/simRemoveModel on the cell: a robot's base object takes the whole
         robot (its links, joints and the proximity sensors mounted on it), the operator's body
-        takes the operator, and a sensor, camera, laser or the Kinect goes alone; the cell
-        re-indexes what is left. Returns the removed handles, or None for an object that is
-        not the cell's. ValueError for a part that only goes with its whole."""
-        registry, world = self.sim.registry, self.sim.world
+        takes the operator, and a sensor, camera, laser or the Kinect goes alone. True for an
+        object of the cell that may go (the simulation removes it with its descendants, then
+        calls :meth:`forget`), False for one that is not the cell's; ValueError for a part that
+        only goes with its whole."""
         if self.operator is not None and obj.handle in self.operator_handles:
             if obj.handle != self.operator_handles[0]:
                 raise ValueError(f"'{obj.name}' is part of the operator; remove "
-                                 f"'{registry.get(self.operator_handles[0]).name}' instead")
-        elif obj.handle in self.prox_handles:
-            pass
-        elif obj.robot in self.arm_by_name:
+                                 f"'{self.sim.registry.get(self.operator_handles[0]).name}' "
+                                 "instead")
+            return True
+        if obj.handle in self.prox_handles:
+            return True
+        if obj.robot in self.arm_by_name:
+            arm = self.arm_by_name[obj.robot]
             if obj.part != "base":
-                base = self.arm_by_name[obj.robot].objects[
-                    self.arm_by_name[obj.robot].chain.root].name
                 raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; remove the "
-                                 f"robot's base object '{base}' instead")
-        elif obj.handle not in self._device_handles():
-            return None
-        removed = registry.remove(obj.handle)
-        for h in removed:
-            if world.has(h):
-                world.remove(h)
-        self._forget(set(removed))
-        self._sync_world()
-        self._sense()
-        return removed
+                                 f"robot's base object '{arm.objects[arm.chain.root].name}' "
+                                 "instead")
+            return True
+        return obj.handle in self._device_handles()
 
     def _device_handles(self):
         handles = [c.handle for c in self.cameras]
@@ -428,8 +422,9 @@ class Cell:
                 handles.append(self.kinect_base)
         return handles
 
-    def _forget(self, removed):
-        """Drop every part whose scene object is gone, and re-index."""
+    def forget(self, removed):
+        """After the simulation removed these handles: drop every part whose scene object is
+        gone, re-index, and sense again."""
         for arm in [a for a in self.arms if a.objects[a.chain.root].handle in removed]:
             pb.removeBody(arm.body, physicsClientId=self.client)
             self.arms.remove(arm)
@@ -449,6 +444,8 @@ class Cell:
             self.kinect_depth = None
         if self.kinect_rgb is not None and self.kinect_rgb.handle in removed:
             self.kinect_rgb = None
+        self._sync_world()
+        self._sense()
 
     def move_object(self, obj, position, quat):
         """A robot's base moves (x, y, yaw; mobile or not); its links follow their joints; the

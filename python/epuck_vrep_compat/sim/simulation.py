@@ -108,25 +108,31 @@ class Simulation:
 
     def remove_object(self, handle: int) -> List[int]:
         """Remove a scene object (with its children) or, for a robot's base object, the whole
-        robot (the cell's objects: see :meth:`Cell.remove_object`); returns the removed handles. KeyError for an unknown handle; ValueError for a
-        part of a robot (a robot is removed whole)."""
+        robot (the cell's objects: see :meth:`Cell.claims_removal`); returns the removed
+        handles. KeyError for an unknown handle; ValueError for a part of a robot (a robot is
+        removed whole)."""
         obj = self.registry.get(handle)
-        if self.cell is not None:
-            removed = self.cell.remove_object(obj)
-            if removed is not None:
-                self._changed()
-                return removed
+        if self.cell is not None and self.cell.claims_removal(obj):
+            removed = self._remove_subtree(handle)
+            self.cell.forget(set(removed))
+            self._changed()
+            return removed
         if obj.robot is not None:
             if obj.part != "root":
                 base = self.robots[self._index_by_name[obj.robot]].root.name
                 raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; remove the "
                                  f"robot's base object '{base}' instead")
             return self.remove_robot(obj.robot)
+        removed = self._remove_subtree(handle)
+        self._changed()
+        return removed
+
+    def _remove_subtree(self, handle: int) -> List[int]:
+        """An object and its descendants out of the registry and the collision world."""
         removed = self.registry.remove(handle)
         for h in removed:
             if self.world.has(h):
                 self.world.remove(h)
-        self._changed()
         return removed
 
     def live_obstacles(self):
