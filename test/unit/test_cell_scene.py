@@ -81,7 +81,7 @@ def test_the_operator_walks_out_and_back_at_its_speed():
 
 
 def test_a_vrep_matrix_becomes_the_same_pose():
-    from epuck_vrep_compat.cell.cell import pose_from_vrep_matrix
+    from epuck_vrep_compat.cell.devices import pose_from_vrep_matrix
     # camera 1 of the thesis: x axis = first column, translation = fourth
     m = [-0.9983, 0.0558, 0.0183, 1.4507, 0.0543, 0.9956, -0.0770, 1.6420,
          -0.0225, -0.0759, -0.9969, 2.8738]
