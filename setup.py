@@ -5,6 +5,7 @@ from catkin_pkg.python_setup import generate_distutils_setup
 setup(**generate_distutils_setup(
     packages=[
         "epuck_vrep_compat",
+        "epuck_vrep_compat.cell",
         "epuck_vrep_compat.scene",
         "epuck_vrep_compat.sim",
         "epuck_vrep_compat.ros",

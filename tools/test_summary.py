@@ -59,7 +59,7 @@ def expected_rostest():
 def main(results):
     ok = True
     passed = failed = 0
-    for tier in ("core", "unit"):
+    for tier in ("core", "unit", "install"):
         path = os.path.join(results, f"pytest-{tier}.xml")
         want = expected_pytest(tier)
         if not os.path.exists(path):

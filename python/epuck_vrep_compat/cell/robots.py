@@ -8,7 +8,7 @@ each roller joint sits on its wheel. Address joints by name.
 from dataclasses import dataclass
 from pathlib import Path
 
-MODELS_DIR = Path(__file__).resolve().parents[3] / "models"
+from epuck_vrep_compat.paths import data_path
 
 
 @dataclass(frozen=True)
@@ -20,7 +20,7 @@ class RobotModel:
 
     @property
     def urdf_path(self):
-        return MODELS_DIR / self.urdf_file
+        return Path(data_path("models", self.urdf_file))
 
 
 IRB140 = RobotModel(

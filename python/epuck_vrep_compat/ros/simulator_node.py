@@ -15,12 +15,12 @@ import time
 import traceback
 
 import rosgraph
-import rospkg
 import rospy
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
 
+from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.camera_face import CameraFace
 from epuck_vrep_compat.ros.epuck_face import EpuckFace
 from epuck_vrep_compat.ros.led_face import LedFace
@@ -204,11 +204,10 @@ def main():
     rospy.init_node(NODE_NAME)
     # watching from the start: rospy retries a vanished master forever while registering
     MasterWatch(first_master_pid)
-    package = rospkg.RosPack().get_path("epuck_vrep_compat")
     try:
-        params = read_params(package + "/worlds/arena.yaml")
-        node = SimulatorNode(params, package + "/models")
-    except (ParamError, SceneError) as e:
+        params = read_params(data_path("worlds", "arena.yaml"))
+        node = SimulatorNode(params, data_path("models"))
+    except (ParamError, SceneError, PackageNotFound) as e:
         rospy.logfatal("epuck_sim cannot start: %s", e)
         time.sleep(0.5)          # let the log line reach /rosout
         return 2
