@@ -13,6 +13,7 @@ GROUP_ROBOT: int  # 2: robot bodies
 GROUP_FLOOR: int  # 4: the ground; robots never touch it, IR cones never see it
 GROUP_DYNAMIC: int  # 8: movable objects (fixed for contact resolution)
 GROUP_ALL: int  # 15: every group, as a ray or camera mask
+WORLD_LIMIT_M: float  # 1e6: every position the core takes lies within +-WORLD_LIMIT_M [m]
 
 class Rng:
     """Seeded xoshiro256** generator (splitmix64 seeding), reproducible bit for bit."""

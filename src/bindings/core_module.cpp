@@ -294,6 +294,7 @@ PYBIND11_MODULE(_core, m) {
   m.attr("GROUP_FLOOR") = int(evc::kGroupFloor);
   m.attr("GROUP_DYNAMIC") = int(evc::kGroupDynamic);
   m.attr("GROUP_ALL") = int(evc::kGroupAll);
+  m.attr("WORLD_LIMIT_M") = evc::kWorldLimit_m;
   evc::bind_noise(m);
   evc::bind_world(m);
   evc::bind_model(m);

@@ -2,6 +2,7 @@
 """Profile epuck_driver, two robots: the real driver's names, types, frames and values."""
 import unittest
 
+import numpy as np
 import rospy
 import rostest
 import tf2_ros
@@ -53,7 +54,11 @@ class ProfileDriver(unittest.TestCase):
         accel = wait_for_message("/epuck_robot_0/accel", Imu)
         self.assertEqual(accel.header.frame_id, "epuck_robot_0/base_link")
         self.assertEqual(accel.orientation.w, 1.0)
+        self.assertEqual(accel.orientation_covariance[0], -1.0)       # REP 145: no estimate
         self.assertEqual(accel.angular_velocity.z, 0.0)
+        self.assertEqual(accel.angular_velocity_covariance[0], -1.0)  # no gyroscope
+        np.testing.assert_allclose(np.reshape(accel.linear_acceleration_covariance, (3, 3)),
+                                   np.diag(np.square([0.03559, 0.03079, 0.04930])))
         self.assertAlmostEqual(accel.linear_acceleration.z, 9.81, delta=0.3)
 
     def test_tf(self):

@@ -83,7 +83,14 @@ class ProfileVrep(unittest.TestCase):
         self.assertAlmostEqual(float(z.mean()), 9.81, delta=0.05)
         self.assertAlmostEqual(float(x.mean()), 0.0, delta=0.05)
         self.assertEqual(msgs[0].header.frame_id, "ePuck1/base_link")
-        self.assertEqual(list(msgs[0].linear_acceleration_covariance)[0], 0.01)
+        # REP 145: no orientation estimate; covariances are the noise model's variances
+        # (the defaults: accelerometer 0.03559, 0.03079, 0.0493 m/s^2, gyroscope 0.005 rad/s)
+        self.assertEqual(msgs[0].orientation_covariance[0], -1.0)
+        self.assertEqual(msgs[0].orientation.w, 1.0)
+        np.testing.assert_allclose(np.reshape(msgs[0].linear_acceleration_covariance, (3, 3)),
+                                   np.diag(np.square([0.03559, 0.03079, 0.04930])))
+        np.testing.assert_allclose(np.reshape(msgs[0].angular_velocity_covariance, (3, 3)),
+                                   np.diag(np.square([0.005] * 3)))
 
     def test_leds_latched(self):
         pub = rospy.Publisher("/ePuck0/cmd_led", UInt8MultiArray, queue_size=1, latch=True)

@@ -37,25 +37,28 @@ def test_range_batch_matches_genpy():
     assert batch.msg_class._md5sum == Range._md5sum
 
 
-def test_imu_batch_matches_genpy_both_conventions():
+def test_imu_batch_matches_genpy_and_rep_145():
     accel = np.array([[0.1, -0.2, 9.81], [1.0, 2.0, 3.0]])
     gyro = np.array([[0.0, 0.0, 0.5], [-1.0, 0.25, 0.0]])
     frames = ["ePuck0/base_link", "epuck_robot_11/base_link"]
-    for known in (False, True):
-        batch = wire.imu_batch(frames, orientation_known=known)
+    accel_var = [0.03559 ** 2, 0.03079 ** 2, 0.0493 ** 2]
+    for gyro_var in ([0.005 ** 2] * 3, None):
+        batch = wire.imu_batch(frames, accel_var, gyro_var)
         data = batch.pack(3, 7, accel=accel, gyro=gyro)
         for i, frame in enumerate(frames):
             msg = _stamp(Imu(), 3, 7, frame)
             (msg.linear_acceleration.x, msg.linear_acceleration.y,
              msg.linear_acceleration.z) = accel[i]
             msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = gyro[i]
-            msg.linear_acceleration_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
-            msg.angular_velocity_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
-            if known:
-                msg.orientation.w = 1.0
-                msg.orientation_covariance = [0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01]
+            msg.orientation.w = 1.0
+            msg.orientation_covariance = [-1.0, 0, 0, 0, 0, 0, 0, 0, 0]   # no estimate
+            msg.linear_acceleration_covariance = [accel_var[0], 0, 0, 0, accel_var[1], 0,
+                                                  0, 0, accel_var[2]]
+            if gyro_var is None:
+                msg.angular_velocity_covariance = [-1.0, 0, 0, 0, 0, 0, 0, 0, 0]
             else:
-                msg.orientation.w = 0.0
+                msg.angular_velocity_covariance = [gyro_var[0], 0, 0, 0, gyro_var[1], 0,
+                                                   0, 0, gyro_var[2]]
             assert batch.frame(data, i) == _framed(msg)
 
 

@@ -313,6 +313,7 @@ class ArticulatedRobot:
         """Joints to zero (inside their limits), base to its start pose, script back on."""
         self.base_xy_yaw[:] = (self.spec.position_m[0], self.spec.position_m[1],
                                self.spec.yaw_rad)
+        self.base_z = float(self.spec.position_m[2])
         self.place_base()
         self.twist[:] = 0.0
         self.external = False

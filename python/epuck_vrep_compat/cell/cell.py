@@ -379,8 +379,17 @@ class Cell:
         if obj.part != "base":
             raise ValueError(f"'{obj.name}' is part of robot {obj.robot}; move the robot's "
                              "base object, or its joints")
+        before = arm.base_xy_yaw.copy(), arm.base_z
         arm.base_xy_yaw[:] = (float(position[0]), float(position[1]), float(yaw_of(quat)))
         arm.base_z = float(position[2])
+        try:
+            self._place(arm)
+        except ValueError:          # the core refused a link's pose: all or nothing
+            arm.base_xy_yaw[:], arm.base_z = before
+            self._place(arm)
+            raise
+
+    def _place(self, arm):
         arm.place_base()
         arm.read_state()
         self._sync_world()

@@ -125,8 +125,12 @@ class EpuckFace:
             [frame(r, names.PROX_FRAME_FORMAT.format(i=k))
              for r in robots for k in range(names.PROXIMITY_COUNT)],
             Range.INFRARED, rng.field_of_view_rad, rng.min_range_m, rng.max_range_m)
-        self._imu_batch = wire.imu_batch([frame(r, names.BASE_FRAME) for r in robots],
-                                         orientation_known=profile.name == "epuck_driver")
+        noise = self.sim.noise
+        self._imu_batch = wire.imu_batch(
+            [frame(r, names.BASE_FRAME) for r in robots],
+            np.square(noise.accel_stddev_m_s2) if noise.enabled else np.zeros(3),
+            (np.square(noise.gyro_stddev_rad_s) if noise.enabled else np.zeros(3))
+            if profile.has_gyro else None)
         self._odom_batch = wire.odometry_batch(names.ODOM_FRAME,
                                                [frame(r, names.BASE_FRAME) for r in robots])
         for i, robot in enumerate(self.robots):
@@ -181,7 +185,7 @@ class EpuckFace:
             ranges = np.clip(swarm.ranges, self._min_range, self._max_range)
             return self._range_batch.pack(secs, nsecs, range=ranges)
         if kind == "imu":
-            gyro = swarm.gyro if self.profile.name != "epuck_driver" else np.zeros((swarm.size, 3))
+            gyro = swarm.gyro if self.profile.has_gyro else np.zeros((swarm.size, 3))
             return self._imu_batch.pack(secs, nsecs, accel=swarm.accel * self.gravity_sign,
                                         gyro=gyro)
         if kind == "ground_truth":

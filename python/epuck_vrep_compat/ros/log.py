@@ -6,6 +6,7 @@ and a simulation running 10x real time repeats the line ten times as often. :cla
 keys on a caller-given key (robot, topic, kind of fault) and counts wall time, so a paused
 simulation does not silence it either.
 """
+import logging
 import threading
 import time
 from typing import Dict
@@ -16,7 +17,7 @@ WARN_PERIOD_S = 5.0
 
 
 class ThrottledLog:
-    """At most one warning per key and period (wall time)."""
+    """At most one line per key and period (wall time)."""
 
     def __init__(self, period_s: float = WARN_PERIOD_S):
         self._period_s = period_s
@@ -24,10 +25,50 @@ class ThrottledLog:
         self._lock = threading.Lock()
 
     def warn(self, key: str, fmt: str, *args):
+        if self._due(key):
+            rospy.logwarn(fmt, *args)
+
+    def error(self, key: str, fmt: str, *args):
+        if self._due(key):
+            rospy.logerr(fmt, *args)
+
+    def _due(self, key: str) -> bool:
         now = time.monotonic()
         with self._lock:
             last = self._last.get(key)
             if last is not None and now - last < self._period_s:
-                return
+                return False
             self._last[key] = now
-        rospy.logwarn(fmt, *args)
+        return True
+
+
+def serve_get_loggers_safely():
+    """Make this node's ``~get_loggers`` answer every time.
+
+    rospy's handler iterates ``logging.Logger.manager.loggerDict`` while other threads may
+    create loggers (rospy makes some per connection), and then fails with "dictionary changed
+    size during iteration"; it also fails on a level it has no name for. Call after
+    ``rospy.init_node``: the registered service keeps its name and type, its handler becomes one
+    that copies the logger table under logging's own lock first."""
+    from rospy.impl.registration import get_service_manager
+    service = get_service_manager().get_service(rospy.resolve_name("~get_loggers"))
+    if service is not None:
+        service.handler = _get_loggers
+
+
+_LEVEL_NAMES = ((logging.CRITICAL, "FATAL"), (logging.ERROR, "ERROR"),
+                (logging.WARNING, "WARN"), (logging.INFO, "INFO"), (logging.DEBUG, "DEBUG"))
+
+
+def _level_name(level: int) -> str:
+    """rosconsole's name of a logging level; a level between two named ones takes the lower."""
+    return next((name for number, name in _LEVEL_NAMES if level >= number), "DEBUG")
+
+
+def _get_loggers(_request):
+    from roscpp.msg import Logger
+    from roscpp.srv import GetLoggersResponse
+    with logging._lock:          # the lock logging.getLogger holds while it adds a logger
+        names = list(logging.Logger.manager.loggerDict)
+    return GetLoggersResponse(
+        [Logger(n, _level_name(logging.getLogger(n).getEffectiveLevel())) for n in names])

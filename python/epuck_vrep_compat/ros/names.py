@@ -35,6 +35,7 @@ class TopicProfile:
     odom_tf_from_odometry: bool     # odom -> base_link from wheel odometry (else ground truth)
     publishes_odometry: bool
     publishes_scan: bool
+    has_gyro: bool                  # False: angular velocity 0, marked "no estimate" (REP 145)
 
     def robot_name(self, index: int) -> str:
         return self.robot_name_format.format(index=index)
@@ -62,6 +63,7 @@ VREP = TopicProfile(
     odom_tf_from_odometry=False,
     publishes_odometry=False,
     publishes_scan=False,
+    has_gyro=True,
 )
 
 EPUCK_DRIVER = TopicProfile(
@@ -79,6 +81,7 @@ EPUCK_DRIVER = TopicProfile(
     odom_tf_from_odometry=True,
     publishes_odometry=True,
     publishes_scan=True,
+    has_gyro=False,        # the e-puck 1's driver has an accelerometer only
 )
 
 PROFILES: Dict[str, TopicProfile] = {p.name: p for p in (VREP, EPUCK_DRIVER)}

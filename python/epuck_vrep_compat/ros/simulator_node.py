@@ -24,6 +24,7 @@ from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.camera_face import CameraFace
 from epuck_vrep_compat.ros.epuck_face import EpuckFace
 from epuck_vrep_compat.ros.led_face import LedFace
+from epuck_vrep_compat.ros.log import ThrottledLog, serve_get_loggers_safely
 from epuck_vrep_compat.ros.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.names import PROFILES
 from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
@@ -57,6 +58,7 @@ class SimulatorNode:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
         # Reentrant: a service holding it may stop the simulation, whose listeners reset it.
         self._lock = threading.RLock()
+        self._errors = ThrottledLog()
         self._batch = StepBatch()
         self.control = SimulationControl(self.sim, PAUSED if params.paused else RUNNING)
         self.control.listeners.append(self._on_state)
@@ -91,7 +93,10 @@ class SimulatorNode:
                                           self.sim.frame, self.sim.time_s)
         with self._lock:
             for _ in range(req.steps):
-                self._step_and_publish()
+                if not self._step_and_publish():
+                    self._batch.flush()
+                    return StepSimulationResponse(False, "the simulation step failed (see the "
+                                                  "node's log)", self.sim.frame, self.sim.time_s)
                 if self._batch.due():
                     self._batch.flush()
             self._batch.flush()
@@ -138,8 +143,13 @@ class SimulatorNode:
         stamp = rospy.Time.from_sec(self.sim.time_s)
         return stamp, stamp.secs, stamp.nsecs
 
-    def _step_and_publish(self):
-        self.sim.step()
+    def _step_and_publish(self) -> bool:
+        """One step and its messages; False when the step failed (see :meth:`_step_failed`)."""
+        try:
+            self.sim.step()
+        except Exception:  # noqa: BLE001 - the simulation must outlive it, and says so
+            self._step_failed(traceback.format_exc())
+            return False
         stamp, secs, nsecs = self._stamp()
         batch = self._batch
         batch.add(self._clock, Clock(clock=stamp))
@@ -154,14 +164,25 @@ class SimulatorNode:
         self.vrep.publish(batch, secs, nsecs)
         self.cameras.publish(secs, nsecs)
         self.leds.publish()
+        return True
 
-    @staticmethod
-    def _guarded(work):
+    def _step_failed(self, trace: str):
+        """Physics refused to step (every request is checked before it reaches the scene, so
+        this is a bug): the simulation pauses, so that /vrep/info says "paused" rather than
+        "running" while time stands still, and the error is logged with its cause. Stop, start
+        and reset still work; starting again retries the step."""
+        self.control.pause()
+        self._errors.error("step", "simulation step failed at t=%.3f s; the simulation is "
+                           "paused (start, stop or reset it through /vrep):\n%s",
+                           self.sim.time_s, trace)
+
+    def _guarded(self, work):
         """A bug in one face must not stop the simulation: log it loudly and go on."""
         try:
             work()
         except Exception:  # noqa: BLE001 - the loop outlives any one failure, which is logged
-            rospy.logerr_throttle(5.0, "simulation step failed:\n" + traceback.format_exc())
+            self._errors.error("publish", "publishing a step failed:\n%s",
+                               traceback.format_exc())
 
     def spin(self):
         """Step at ``rtf`` times real time (or as fast as possible at 0) while running.
@@ -202,6 +223,7 @@ def main():
         return 1
     first_master_pid = master_pid("/" + NODE_NAME)
     rospy.init_node(NODE_NAME)
+    serve_get_loggers_safely()
     # watching from the start: rospy retries a vanished master forever while registering
     MasterWatch(first_master_pid)
     try:

@@ -1,7 +1,8 @@
 """The ``simRos*`` services of ``/vrep``: every service V-REP 3.3.0's legacy ROS plugin
 advertises (96: all of ``vrep_common``'s srv files but ``simRosAppendStringSignal``).
 
-Each call runs under the simulation lock (the core is not thread-safe). A failure never reaches
+Each call runs under the simulation lock (the core is not thread-safe); only work that touches
+no simulation state (reading a model file) runs before it, so no request holds the lock long. A failure never reaches
 rospy: it becomes V-REP's failure answer (-1 result or handle, empty arrays and strings), its
 reason goes to the error log read by ``simRosGetLastErrors`` and to a throttled warning, and the
 node keeps running. Services for things this simulator does not have (dialogs, UIs, consoles,
@@ -15,6 +16,7 @@ import rospy
 import vrep_common.srv
 
 from epuck_vrep_compat.ros import vrep_services_devices, vrep_services_objects, vrep_services_sim
+from epuck_vrep_compat.ros.vrep_services_objects import Prepared
 from epuck_vrep_compat.vrep.backend import VrepError
 
 NOT_ADVERTISED = ("simRosAppendStringSignal",)    # defined in vrep_common, never advertised
@@ -119,8 +121,13 @@ class VrepServices:
             errors = []
             log = rospy.logwarn
             try:
-                with self._lock:
-                    response = handler(self.backend, req, errors)
+                if isinstance(handler, Prepared):      # the slow half outside the lock
+                    prepared = handler.prepare(self.backend, req)
+                    with self._lock:
+                        response = handler.handler(self.backend, req, errors, prepared)
+                else:
+                    with self._lock:
+                        response = handler(self.backend, req, errors)
             except VrepError as e:
                 errors.append(str(e))
                 response = failure_response(response_class)

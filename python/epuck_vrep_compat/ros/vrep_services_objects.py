@@ -4,14 +4,23 @@ V-REP call each).
 
 Every handler is ``handler(backend, req, errors) -> response``: it raises ``VrepError`` for
 V-REP's failure answer, or appends to ``errors`` what V-REP reports while still answering (an
-unknown handle among several).
+unknown handle among several). A handler with slow work that touches no simulation state
+(reading a file) is a :class:`Prepared`: its ``prepare(backend, req)`` runs before the
+simulation lock is taken, and ``handler(backend, req, errors, prepared)`` under it.
 """
+from typing import Callable, NamedTuple
+
 import rospy
 from vrep_common import srv
 
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
+
+
+class Prepared(NamedTuple):
+    prepare: Callable
+    handler: Callable
 
 
 def sim_stamp(backend):
@@ -118,10 +127,15 @@ def _set_object_parameter(backend, req, errors):
                     "simulator")
 
 
-def load_model(backend, req, errors):
+def read_model(backend, req):
+    """simLoadModel's first half, outside the simulation lock: read and check the file."""
+    return backend.read_model(req.fileName)
+
+
+def load_model(backend, req, errors, model):
     """simLoadModel returns the base handle; the plugin reads it back as the last selected
-    object, so the new base ends up selected."""
-    parts = backend.load_model(req.fileName)
+    object, so the new base ends up selected. ``model``: the file :func:`read_model` read."""
+    parts = backend.load_model(req.fileName, model)
     base = parts.root
     backend.set_selection([base.handle])
     rospy.loginfo("simRosLoadModel: '%s' loaded as robot %s (base '%s', handle %d)",
@@ -149,7 +163,7 @@ def _remover(service, response_class, count):
 
 
 HANDLERS = {
-    "simRosLoadModel": load_model,
+    "simRosLoadModel": Prepared(read_model, load_model),
     "simRosCopyPasteObjects": copy_paste_objects,
     "simRosRemoveModel": _remover("simRosRemoveModel", srv.simRosRemoveModelResponse, True),
     "simRosRemoveObject": _remover("simRosRemoveObject", srv.simRosRemoveObjectResponse, False),

@@ -94,20 +94,27 @@ def range_batch(frame_ids, radiation_type, field_of_view, min_range, max_range):
     return MessageBatch(Range, bodies, {"range": ([len(b) - 4 for b in bodies], "<f4", 1)})
 
 
-_COV_0_01 = struct.pack("<9d", 0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01)
-_COV9_ZERO = bytes(72)
+_NO_ESTIMATE = struct.pack("<9d", -1.0, 0, 0, 0, 0, 0, 0, 0, 0)
 
 
-def imu_batch(frame_ids, orientation_known: bool):
-    """``sensor_msgs/Imu`` as the V-REP model (orientation and its covariance zero: never set)
-    or the driver (identity orientation, covariance diag(0.01)) fills it; fields ``gyro`` and
-    ``accel`` (3 each), covariances diag(0.01)."""
-    if orientation_known:
-        orientation = struct.pack("<4d", 0.0, 0.0, 0.0, 1.0) + _COV_0_01
-    else:
-        orientation = bytes(32) + _COV9_ZERO
-    bodies = [_header(f) + orientation + bytes(24) + _COV_0_01 + bytes(24) + _COV_0_01
-              for f in frame_ids]
+def _diagonal(variances) -> bytes:
+    """A 3x3 covariance: diagonal variances, or None for "no estimate" (element 0 = -1)."""
+    if variances is None:
+        return _NO_ESTIMATE
+    x, y, z = (float(v) for v in variances)
+    return struct.pack("<9d", x, 0, 0, 0, y, 0, 0, 0, z)
+
+
+def imu_batch(frame_ids, accel_variance, gyro_variance):
+    """``sensor_msgs/Imu`` by its definition and REP 145: no orientation estimate (identity
+    quaternion, ``orientation_covariance[0] = -1``), the acceleration's and angular velocity's
+    covariances diagonal with the noise model's variances (per axis; all zero, "unknown", when
+    the noise is off), ``gyro_variance`` None for a robot without a gyroscope (angular velocity
+    covariance[0] = -1); fields ``gyro`` and ``accel`` (3 each)."""
+    identity = struct.pack("<4d", 0.0, 0.0, 0.0, 1.0)
+    tail = (identity + _NO_ESTIMATE + bytes(24) + _diagonal(gyro_variance) + bytes(24)
+            + _diagonal(accel_variance))
+    bodies = [_header(f) + tail for f in frame_ids]
     head = [len(_header(f)) for f in frame_ids]
     return MessageBatch(Imu, bodies, {
         "gyro": ([h + 104 for h in head], "<f8", 3),

@@ -11,7 +11,9 @@ nearest to that point). A request names a model by
   clients pass paths of ``.ttm`` files (``models/robots/mobile/e-puck.ttm``); their folders do
   not matter here.
 
-Anything else raises :class:`ModelFileError` with the reason.
+Anything else, and a file over :data:`MAX_MODEL_FILE_BYTES`, raises :class:`ModelFileError`
+with the reason. Reading touches no simulation state: ``simRosLoadModel`` reads and checks the
+file before it takes the simulation lock.
 """
 import os
 from dataclasses import dataclass
@@ -21,6 +23,7 @@ from epuck_vrep_compat.scene.scene_file import SceneError, _number, _numbers, _o
 
 ROBOTS = ("epuck",)
 _EXTENSIONS = (".ttm", ".yaml")
+MAX_MODEL_FILE_BYTES = 64 * 1024     # ours are a few hundred bytes; parsing more takes seconds
 
 
 class ModelFileError(ValueError):
@@ -99,6 +102,13 @@ def _aliases(path: str):
 
 
 def _load(path: str) -> dict:
+    try:
+        size = os.path.getsize(path)
+    except OSError as e:
+        raise ModelFileError(f"cannot read model file '{path}': {e.strerror}") from None
+    if size > MAX_MODEL_FILE_BYTES:
+        raise ModelFileError(f"model file '{path}' has {size} bytes; a model file has at most "
+                             f"{MAX_MODEL_FILE_BYTES}")
     try:
         data = read_yaml(path, "model file")
     except SceneError as e:

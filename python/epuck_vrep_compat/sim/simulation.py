@@ -208,7 +208,8 @@ class Simulation:
 
     def move_object(self, obj, position, quat):
         """Teleport a robot (its base object: x, y and yaw; robots stay on the ground) or a
-        free scene object. Parts of a robot are rigid: ValueError."""
+        free scene object. Parts of a robot are rigid: ValueError. A refused pose (ValueError)
+        leaves everything as it was."""
         if self.cell is not None and self.cell.owns(obj):
             self.cell.move_object(obj, position, quat)
             return
@@ -221,10 +222,11 @@ class Simulation:
                                 float(yaw_of(quat)))
             self._refresh()
             return
-        obj.local_position = np.asarray(position, dtype=float)
-        obj.local_quat = np.asarray(quat, dtype=float)
-        if self.world.has(obj.handle):
-            self.world.set_pose(obj.handle, obj.local_position, obj.local_quat)
+        position = np.asarray(position, dtype=float)
+        quat = np.asarray(quat, dtype=float)
+        if self.world.has(obj.handle):      # first: the core refuses a bad pose (ValueError)
+            self.world.set_pose(obj.handle, position, quat)
+        obj.local_position, obj.local_quat = position, quat
 
     def object_velocity(self, obj):
         """(linear (3), angular (3)) in the world frame; robot parts move with their robot."""

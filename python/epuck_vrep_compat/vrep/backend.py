@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from epuck_vrep_compat._core import WORLD_LIMIT_M
 from epuck_vrep_compat.scene.transforms import compose, inverse, normalized_quat
 from epuck_vrep_compat.sim.components import ComponentError
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED
@@ -125,7 +126,8 @@ class VrepBackend(VrepParameters, VrepModels):
 
     def set_pose(self, handle: int, relative_to: int, position=None, quat=None):
         """Move an object (a robot's base or a free scene object); parts of a robot model are
-        rigid and refuse (V-REP would break the model)."""
+        rigid and refuse (V-REP would break the model). All or nothing: the whole request is
+        checked (finite, within the world) before the scene is touched."""
         obj = self._object(handle)
         old_p, old_q = self.pose(handle, relative_to)
         new_p = old_p if position is None else np.asarray(position, dtype=float)
@@ -137,6 +139,9 @@ class VrepBackend(VrepParameters, VrepModels):
         reference = self._reference(handle, relative_to)
         if reference is not None:
             new_p, new_q = compose(*reference, new_p, new_q)
+        if not np.all(np.abs(new_p) <= WORLD_LIMIT_M):    # refused before anything is stored
+            raise VrepError(f"position {np.asarray(new_p).tolist()} in the world frame is "
+                            f"beyond ±{WORLD_LIMIT_M:g} m")
         try:
             self.sim.move_object(obj, new_p, new_q)
         except ValueError as e:

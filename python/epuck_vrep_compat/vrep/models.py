@@ -14,14 +14,21 @@ from epuck_vrep_compat.vrep.errors import VrepError
 
 
 class VrepModels:
-    def load_model(self, file_name: str):
-        """simLoadModel: the new robot's parts (base object first)."""
+    def read_model(self, file_name: str):
+        """The model file simLoadModel would load, read and checked; needs no simulation lock
+        (it reads files only), so a caller reads it before taking the lock."""
         if self.models is None:
             raise VrepError("this simulator was started without a model folder")
         try:
-            model = self.models.resolve(file_name)
+            return self.models.resolve(file_name)
         except ModelFileError as e:
             raise VrepError(str(e)) from None
+
+    def load_model(self, file_name: str, model=None):
+        """simLoadModel: the new robot's parts (base object first). ``model``: the file as
+        :meth:`read_model` read it (read here when None)."""
+        if model is None:
+            model = self.read_model(file_name)
         return self._add_robot(model.position_m, model.yaw_rad, f"model '{file_name}'")
 
     def copy_paste(self, handles):
