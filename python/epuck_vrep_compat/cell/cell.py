@@ -13,23 +13,22 @@ import pybullet as pb
 
 from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL, GROUP_DYNAMIC, GROUP_ROBOT, GROUP_STATIC
-from epuck_vrep_compat.cell.articulated import POSITION, ArticulatedRobot, world_poses
-from epuck_vrep_compat.cell.devices import CellVision, RayProximity, pose_from_vrep_matrix
-from epuck_vrep_compat.cell.operator import WalkingOperator
+from epuck_vrep_compat.devices.articulated import POSITION, ArticulatedRobot, world_poses
+from epuck_vrep_compat.devices.cell_sensors import CellVision, RayProximity, pose_from_vrep_matrix
+from epuck_vrep_compat.devices.operator import WalkingOperator
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
     IDENTITY_QUAT, quat_conj, quat_from_axis_angle, quat_from_rpy, yaw_of)
-from epuck_vrep_compat.sim.components import _VISION_TO_CAMERA, CameraSpec
+from epuck_vrep_compat.devices.components import VISION_TO_CAMERA, CameraSpec
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
 LASER_SEED_OFFSET = 0x1A5E
 KINECT_SEED_OFFSET = 0x71C7
-PROX_SEED_OFFSET = 0x9B0C
 
 # V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up:
 # vision z = body x, vision x = body y, vision y = body z (the inverse of the vision-to-camera
 # turn, since the core's camera frame is the body frame).
-_BODY_TO_VISION = quat_conj(_VISION_TO_CAMERA)
+_BODY_TO_VISION = quat_conj(VISION_TO_CAMERA)
 
 
 class Cell:

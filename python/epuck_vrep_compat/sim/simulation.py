@@ -25,7 +25,7 @@ from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
-from epuck_vrep_compat.sim.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
 from epuck_vrep_compat.sim.noise import NoiseSettings
 
 

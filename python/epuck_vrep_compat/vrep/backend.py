@@ -13,7 +13,7 @@ import numpy as np
 
 from epuck_vrep_compat._core import WORLD_LIMIT_M
 from epuck_vrep_compat.scene.transforms import compose, inverse, normalized_quat
-from epuck_vrep_compat.sim.components import ComponentError
+from epuck_vrep_compat.devices.components import ComponentError
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.errors import VrepError

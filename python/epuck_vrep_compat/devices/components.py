@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from epuck_vrep_compat.scene.transforms import quat_mul
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.scene import vrep_codes as vc
 
 
 class ComponentError(ValueError):
@@ -107,7 +107,7 @@ def _core_to_vrep(v):
 
 # A V-REP vision sensor looks along its z axis with y up; the core's camera looks along x with
 # z up. The core camera's orientation is the vision sensor's times this fixed rotation.
-_VISION_TO_CAMERA = np.array([-0.5, -0.5, -0.5, 0.5])    # camera x = vision z, y = x, z = y
+VISION_TO_CAMERA = np.array([-0.5, -0.5, -0.5, 0.5])    # camera x = vision z, y = x, z = y
 
 
 class VisionSensor:
@@ -125,7 +125,7 @@ class VisionSensor:
 
     def camera_pose(self):
         position, quat = self._sim.registry.world_pose(self.handle)
-        return position, quat_mul(quat, _VISION_TO_CAMERA)
+        return position, quat_mul(quat, VISION_TO_CAMERA)
 
     def render(self):
         """(rgb uint8 (H, W, 3) top row first, depth float32 (H, W) metres along the axis)."""

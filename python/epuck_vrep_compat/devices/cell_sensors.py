@@ -9,8 +9,8 @@ import numpy as np
 
 from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL
-from epuck_vrep_compat.sim.components import VisionSensor
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.devices.components import VisionSensor
+from epuck_vrep_compat.scene import vrep_codes as vc
 
 
 def quat_from_matrix(m):

@@ -18,13 +18,13 @@ from typing import Dict, List, Optional
 import numpy as np
 import pybullet as pb
 
-from epuck_vrep_compat.cell.kinematics import Joint, load_urdf_chain
+from epuck_vrep_compat.devices.kinematics import Joint, load_urdf_chain
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
     IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_rpy, quat_from_yaw,
     quat_mul, quat_rotate)
-from epuck_vrep_compat.sim.components import ComponentError, wrap_angle
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.devices.components import ComponentError, wrap_angle
+from epuck_vrep_compat.scene import vrep_codes as vc
 
 POSITION = "position"
 VELOCITY = "velocity"
