@@ -20,6 +20,7 @@ from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
     IDENTITY_QUAT, quat_conj, quat_from_axis_angle, quat_from_rpy, yaw_of)
 from epuck_vrep_compat.devices.components import VISION_TO_CAMERA, CameraSpec
+from epuck_vrep_compat.sim.extension import SimulationExtension
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
 LASER_SEED_OFFSET = 0x1A5E
@@ -31,7 +32,12 @@ KINECT_SEED_OFFSET = 0x71C7
 _BODY_TO_VISION = quat_conj(VISION_TO_CAMERA)
 
 
-class Cell:
+class Cell(SimulationExtension):
+    """The industrial cell, as an extension of the :class:`Simulation`: it builds the cell's
+    devices (arms, operator, proximity sensors, laser, ceiling cameras, Kinect) into the
+    simulation's registry and collision world, steps them after the e-pucks, and answers the
+    simulation's hooks for its objects (removal, moves, velocities, reset)."""
+
     def __init__(self, sim, spec, seed: int):
         self.sim = sim
         self.spec = spec
