@@ -20,6 +20,7 @@ class ComponentError(ValueError):
 
 @dataclass
 class CameraSpec:
+    """A vision sensor's image size, rate, field of view and clipping planes."""
     # The real e-puck's typical colour acquisition: 40 x 40 sub-sampled at about 4 frames/s.
     width: int = 40
     height: int = 40

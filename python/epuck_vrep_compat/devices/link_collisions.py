@@ -14,6 +14,7 @@ from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, quat_from_rpy, qua
 
 @dataclass
 class Collision:
+    """One collision primitive of a link, in the link's frame."""
     shape: str                   # box | cylinder | sphere
     size: tuple                  # box: full extents; cylinder: (radius, length); sphere: (r,)
     position: np.ndarray

@@ -19,6 +19,7 @@ SCRIPTS = ("none", "sine", "square")
 
 @dataclass
 class ArmSpec:
+    """An articulated robot of the cell: its URDF, base pose and default motion."""
     name: str                                  # base object name = the URDF's root link
     urdf: str                                  # absolute path
     position_m: Tuple[float, float, float]
@@ -32,6 +33,7 @@ class ArmSpec:
 
 @dataclass
 class OperatorSpec:
+    """The walking operator: its path and its body's size and colour."""
     name: str = "Bill"
     waypoints_m: List[Tuple[float, float]] = field(default_factory=list)
     speed_m_s: float = 1.2
@@ -43,6 +45,7 @@ class OperatorSpec:
 
 @dataclass
 class ProxSpec:
+    """A ray proximity sensor mounted on a robot's link."""
     name: str
     parent: str                                # link name
     position_m: Tuple[float, float, float]
@@ -53,6 +56,7 @@ class ProxSpec:
 
 @dataclass
 class LaserSpec:
+    """The planar laser scanner: its pose, scan geometry, noise and rate."""
     name: str
     position_m: Tuple[float, float, float]
     yaw_rad: float = 0.0
@@ -69,6 +73,7 @@ class LaserSpec:
 
 @dataclass
 class CameraSpecEntry:
+    """A ceiling camera: V-REP's pose matrix, image, clipping, render entity and blob streams."""
     name: str
     matrix: Tuple[float, ...]                  # V-REP's 12 values relative to the floor
     resolution: Tuple[int, int] = (128, 128)
@@ -81,6 +86,7 @@ class CameraSpecEntry:
 
 @dataclass
 class KinectSpec:
+    """The Kinect: its pose, resolution, field of view and depth range."""
     name: str = "kinect"
     position_m: Tuple[float, float, float] = (0.0, 0.0, 1.0)
     rpy_rad: Tuple[float, float, float] = (0.0, 0.0, 0.0)   # x forward, z up (like a robot)
@@ -92,6 +98,7 @@ class KinectSpec:
 
 @dataclass
 class CellSpec:
+    """The whole ``cell:`` section of a scene file."""
     arms: List[ArmSpec] = field(default_factory=list)
     operator: Optional[OperatorSpec] = None
     proximity: List[ProxSpec] = field(default_factory=list)

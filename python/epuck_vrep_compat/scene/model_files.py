@@ -32,6 +32,7 @@ class ModelFileError(ValueError):
 
 @dataclass(frozen=True)
 class ModelFile:
+    """A model file, read and checked: the robot it loads and where it goes."""
     path: str
     robot: str = "epuck"
     position_m: Tuple[float, float] = (0.0, 0.0)

@@ -24,6 +24,8 @@ PoseSource = Callable[[], Tuple[np.ndarray, np.ndarray]]
 
 @dataclass
 class SceneObject:
+    """One object of the scene, as V-REP's API sees it: handle, name, type, parent, pose
+    (stored or from a pose source), owner robot and its components (``properties``)."""
     handle: int
     name: str
     object_type: int

@@ -16,6 +16,7 @@ from epuck_vrep_compat.scene.validation import (  # noqa: F401  (SceneError, rea
 
 @dataclass
 class Obstacle:
+    """A static box or cylinder of the arena."""
     name: str
     shape: str                                   # "box" | "cylinder"
     position_m: Tuple[float, float]
@@ -33,12 +34,14 @@ class Obstacle:
 
 @dataclass
 class RobotStart:
+    """Where an e-puck starts."""
     position_m: Tuple[float, float]
     yaw_rad: float = 0.0
 
 
 @dataclass
 class Arena:
+    """The arena's floor and walls."""
     size_m: Tuple[float, float] = (1.0, 1.0)
     wall_height_m: float = 0.05
     wall_thickness_m: float = 0.01
@@ -49,6 +52,7 @@ class Arena:
 
 @dataclass
 class Scene:
+    """A scene file, parsed: arena, obstacles, robot starts and the optional cell."""
     arena: Arena = field(default_factory=Arena)
     obstacles: List[Obstacle] = field(default_factory=list)
     robots: List[RobotStart] = field(default_factory=list)

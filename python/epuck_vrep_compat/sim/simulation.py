@@ -123,8 +123,8 @@ class Simulation:
     def remove_object(self, handle: int) -> List[int]:
         """Remove a scene object (with its children) or, for a robot's base object, the whole
         robot (an extension's objects: see :meth:`SimulationExtension.claims_removal`);
-        returns the removed handles. KeyError for an unknown handle; ValueError for a part of a robot (a robot is
-        removed whole)."""
+        returns the removed handles. KeyError for an unknown handle; ValueError for a part of a
+        robot (a robot is removed whole)."""
         obj = self.registry.get(handle)
         for extension in self.extensions:
             if extension.claims_removal(obj):
