@@ -11,16 +11,14 @@ from typing import Dict, List
 import numpy as np
 import pybullet as pb
 
-from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL
 from epuck_vrep_compat.devices.arm_script import scripted_motion
 from epuck_vrep_compat.devices.articulated import ArticulatedRobot
-from epuck_vrep_compat.devices.cell_sensors import (
-    RayProximity, add_ceiling_camera, add_kinect, add_laser)
-from epuck_vrep_compat.devices.link_collisions import LinkCollisions, world_poses
+from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
+from epuck_vrep_compat.devices.link_collisions import LinkCollisions
 from epuck_vrep_compat.devices.operator import add_operator
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, quat_from_rpy, yaw_of
+from epuck_vrep_compat.devices.ray_proximity import RayProximityBank
+from epuck_vrep_compat.scene.transforms import yaw_of
 from epuck_vrep_compat.sim.extension import SimulationExtension
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
@@ -50,7 +48,7 @@ class Cell(SimulationExtension):
         self.operator, self.operator_handles = None, ()
         if spec.operator is not None:
             self.operator, self.operator_handles = add_operator(spec.operator, registry, world)
-        self._build_proximity(registry)
+        self.proximity = RayProximityBank(spec.proximity, registry, self._link_row)
         self._build_laser(registry, world)
         self._build_cameras()
         self._build_kinect()
@@ -59,50 +57,20 @@ class Cell(SimulationExtension):
         self._sync_world()
         self._sense()
 
+    # the proximity sensors' arrays the tests read
+    prox_handles = property(lambda self: self.proximity.handles)
+    prox_rows = property(lambda self: self.proximity.rows)
+    prox_distance = property(lambda self: self.proximity.distance)
+
     # --- construction -------------------------------------------------------------------------
     def _link_row(self, link_name):
+        """(arm, row among every link, stacked over the arms) of a link by name."""
         row0 = 0
         for arm in self.arms:
             if link_name in arm.link_names:
                 return arm, row0 + arm.link_names.index(link_name)
             row0 += len(arm.link_names)
         raise ValueError(f"proximity sensor parent '{link_name}' is not a link of a cell robot")
-
-    def _build_proximity(self, registry):
-        self._prox = []                          # (spec, scene object, component)
-        for p in self.spec.proximity:
-            arm, _ = self._link_row(p.parent)
-            quat = quat_from_rpy(*p.rpy_rad)
-            obj = registry.add(p.name, reg.PROXIMITY_SENSOR, arm.objects[p.parent].handle,
-                               p.position_m, quat, robot=arm.spec.name, part=p.name)
-            component = RayProximity(self, len(self._prox))
-            obj.properties["proximity"] = component
-            obj.properties["range_m"] = (p.min_range_m, p.max_range_m)
-            self._prox.append((p, obj, component))
-        self._index_proximity()
-
-    def _index_proximity(self):
-        """The core's ray array and its per-sensor arrays, from the sensors there are."""
-        registry = self.sim.registry
-        self._prox = [entry for entry in self._prox if entry[1].handle in registry]
-        specs = [p for p, _, _ in self._prox]
-        n = len(specs)
-        self.prox_rows = np.zeros(n, dtype=np.intp)
-        self.prox_offset_p = np.zeros((n, 3))
-        self.prox_offset_q = np.tile(IDENTITY_QUAT, (n, 1))
-        for i, (p, _, component) in enumerate(self._prox):
-            self.prox_rows[i] = self._link_row(p.parent)[1]
-            self.prox_offset_p[i] = p.position_m
-            self.prox_offset_q[i] = quat_from_rpy(*p.rpy_rad)
-            component.renumber(i)
-        self.prox_handles = [obj.handle for _, obj, _ in self._prox]
-        self.prox_sensors = _core.RayProximityArray(
-            np.array([p.min_range_m for p in specs]), np.array([p.max_range_m for p in specs]))
-        self.prox_state = np.zeros(n, dtype=np.int32)
-        self.prox_distance = np.full(n, np.inf)
-        self.prox_point = np.zeros((n, 3))
-        self.prox_handle = np.full(n, -1, dtype=np.int32)
-        self.prox_normal = np.zeros((n, 3))
 
     def _build_laser(self, registry, world):
         self.laser = self.spec.laser
@@ -168,11 +136,7 @@ class Cell(SimulationExtension):
                                      np.concatenate(q))
 
     def _sense(self):
-        if len(self.prox_rows):
-            sp, sq = world_poses(self._positions, self._quats, self.prox_rows,
-                                 self.prox_offset_p, self.prox_offset_q)
-            (self.prox_state, self.prox_distance, self.prox_point, self.prox_handle,
-             self.prox_normal) = self.prox_sensors.read(self.sim.world, sp, sq, -1, GROUP_ALL)
+        self.proximity.sense(self.sim.world, self._positions, self._quats)
         if self.laser is not None and self.sim.frame % self._scan_every == 0:
             position, quat = self.sim.registry.world_pose(self.laser_handle)
             self.laser_ranges = self.scanner.scan(self.sim.world, position, quat,
@@ -200,7 +164,7 @@ class Cell(SimulationExtension):
                                  f"'{self.sim.registry.get(self.operator_handles[0]).name}' "
                                  "instead")
             return True
-        if obj.handle in self.prox_handles:
+        if obj.handle in self.proximity.handles:
             return True
         if obj.robot in self.arm_by_name:
             arm = self.arm_by_name[obj.robot]
@@ -229,7 +193,7 @@ class Cell(SimulationExtension):
             self.arms.remove(arm)
             del self.arm_by_name[arm.spec.name]
         self._links.index(self.arms)
-        self._index_proximity()
+        self.proximity.index(self.sim.registry)
         if self.operator is not None and self.operator_handles[0] in removed:
             self.operator, self.operator_handles = None, ()
         if self.laser is not None and self.laser_handle in removed:

@@ -1,6 +1,5 @@
-"""The cell's sensor components, as the ``/vrep`` services read them: ray proximity sensors
-(read from the cell's last step) and vision sensors with V-REP's "entity to render" mask, depth
-noise and blob filter; V-REP's 12-value object matrices as poses (the thesis's camera
+"""The cell's vision sensors, as the ``/vrep`` services read them: V-REP's "entity to render"
+mask, depth noise and blob filter; V-REP's 12-value object matrices as poses (the thesis's camera
 calibration); and the fixed sensors (laser scanner, ceiling cameras, Kinect) put into a scene.
 """
 import math
@@ -11,7 +10,6 @@ from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL, GROUP_DYNAMIC, GROUP_STATIC
 from epuck_vrep_compat.devices.components import VISION_TO_CAMERA, CameraSpec, VisionSensor
 from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene import vrep_codes as vc
 from epuck_vrep_compat.scene.transforms import quat_conj, quat_from_axis_angle, quat_from_rpy
 
 # V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up:
@@ -47,29 +45,6 @@ def pose_from_vrep_matrix(values):
     """V-REP's 12-value object matrix (rows of [R | t]) to (position, quaternion)."""
     m = np.asarray(values, dtype=float).reshape(3, 4)
     return m[:, 3].copy(), quat_from_matrix(m[:, :3])
-
-
-class RayProximity:
-    """A ray-type proximity sensor (V-REP: detection along its z axis), read from the cell's
-    last step."""
-
-    subtype = vc.PROXSENSOR_RAY
-
-    def __init__(self, cell, index: int):
-        self._cell = cell
-        self._index = index
-
-    def renumber(self, index: int):
-        """The sensor's row in the cell's arrays, after sensors before it were removed."""
-        self._index = index
-
-    def read(self):
-        """(detection state 0/1, point in the sensor frame (3), object handle or -1, normal)."""
-        c = self._cell
-        i = self._index
-        if not c.prox_state[i]:
-            return 0, np.zeros(3), -1, np.zeros(3)
-        return 1, c.prox_point[i].copy(), int(c.prox_handle[i]), c.prox_normal[i].copy()
 
 
 class CellVision(VisionSensor):
