@@ -6,8 +6,8 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.scene.scene_file import load_scene
 
 WORLD = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
 STEPS = 200
