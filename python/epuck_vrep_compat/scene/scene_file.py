@@ -9,7 +9,7 @@ import os
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
-from epuck_vrep_compat.scene.cell_file import parse_cell
+from epuck_vrep_compat.scene.cell_file import CellSpec, parse_cell
 from epuck_vrep_compat.scene.validation import (  # noqa: F401  (SceneError, read_yaml: API)
     SceneError, as_list, color, number, numbers, only, positive, read_yaml)
 
@@ -56,7 +56,7 @@ class Scene:
     arena: Arena = field(default_factory=Arena)
     obstacles: List[Obstacle] = field(default_factory=list)
     robots: List[RobotStart] = field(default_factory=list)
-    cell: Optional[object] = None            # scene.cell_file.CellSpec: arms, operator, sensors
+    cell: Optional[CellSpec] = None          # arms, operator, sensors
     source: Optional[str] = None
 
 
