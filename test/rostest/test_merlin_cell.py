@@ -23,7 +23,7 @@ from std_msgs.msg import Float32MultiArray
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 
-from epuck_vrep_compat.cell.kinematics import load_urdf_chain
+from epuck_vrep_compat.devices.kinematics import load_urdf_chain
 from epuck_vrep_compat.msg import (
     ComauMsg, IrbMsg, YouBotMsg, vett_JointHandles, vett_posOrAssGiunto, vett_posOrRelGiunto,
     vett_proxData)

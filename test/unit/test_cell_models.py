@@ -10,8 +10,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.cell import robots
-from epuck_vrep_compat.cell.kinematics import load_urdf_chain
+from epuck_vrep_compat.scene import robots
+from epuck_vrep_compat.devices.kinematics import load_urdf_chain
 from epuck_vrep_compat.scene.transforms import compose, inverse, quat_conj, quat_from_yaw, quat_mul
 
 MODELS = {"irb140": robots.IRB140, "comau": robots.COMAU_SMART_SIX, "youbot": robots.YOUBOT}

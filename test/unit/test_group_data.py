@@ -135,11 +135,12 @@ def test_batched_poses_equal_one_pose_call_per_object_in_the_cell():
     on the deepest scene there is (arms of up to 16 joints) in a moved configuration."""
     import os
 
+    from epuck_vrep_compat.cell.world import build_simulation
     from epuck_vrep_compat.scene.scene_file import load_scene
     from epuck_vrep_compat.sim.control import RUNNING
 
     world = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
-    sim = Simulation(load_scene(world), [])
+    sim = build_simulation(load_scene(world), [])
     try:
         backend = VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True)
         for _ in range(40):

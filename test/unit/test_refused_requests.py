@@ -7,10 +7,10 @@ import os
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.cell.world import build_simulation
 from epuck_vrep_compat.scene.model_files import MAX_MODEL_FILE_BYTES, ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
-from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
@@ -19,7 +19,7 @@ REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 
 
 def make_backend(world, robots):
-    sim = Simulation(load_scene(os.path.join(REPO, "worlds", world)), robots)
+    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)), robots)
     return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
                        models=ModelLibrary(os.path.join(REPO, "models")))
 

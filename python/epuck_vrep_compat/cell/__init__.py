@@ -1,1 +1,3 @@
-"""cell layer of epuck_vrep_compat: the industrial cell's robots (IRB 140, SMART SiX, youBot)."""
+"""cell layer of epuck_vrep_compat: the industrial cell (IRB 140, SMART SiX, youBot, operator,
+sensors) as an extension of the simulation (:mod:`.cell`), and :func:`.world.build_simulation`,
+which builds a scene's simulation with its cell."""

@@ -11,28 +11,27 @@ from typing import Dict, List
 import numpy as np
 import pybullet as pb
 
-from epuck_vrep_compat import _core
-from epuck_vrep_compat._core import GROUP_ALL, GROUP_DYNAMIC, GROUP_ROBOT, GROUP_STATIC
-from epuck_vrep_compat.cell.articulated import POSITION, ArticulatedRobot, world_poses
-from epuck_vrep_compat.cell.devices import CellVision, RayProximity, pose_from_vrep_matrix
-from epuck_vrep_compat.cell.operator import WalkingOperator
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import (
-    IDENTITY_QUAT, quat_conj, quat_from_axis_angle, quat_from_rpy, yaw_of)
-from epuck_vrep_compat.sim.components import _VISION_TO_CAMERA, CameraSpec
+from epuck_vrep_compat._core import GROUP_ALL
+from epuck_vrep_compat.devices.arm_script import scripted_motion
+from epuck_vrep_compat.devices.articulated import ArticulatedRobot
+from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
+from epuck_vrep_compat.devices.link_collisions import LinkCollisions
+from epuck_vrep_compat.devices.operator import add_operator
+from epuck_vrep_compat.devices.ray_proximity import RayProximityBank
+from epuck_vrep_compat.scene.transforms import yaw_of
+from epuck_vrep_compat.sim.extension import SimulationExtension
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
 LASER_SEED_OFFSET = 0x1A5E
 KINECT_SEED_OFFSET = 0x71C7
-PROX_SEED_OFFSET = 0x9B0C
-
-# V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up:
-# vision z = body x, vision x = body y, vision y = body z (the inverse of the vision-to-camera
-# turn, since the core's camera frame is the body frame).
-_BODY_TO_VISION = quat_conj(_VISION_TO_CAMERA)
 
 
-class Cell:
+class Cell(SimulationExtension):
+    """The industrial cell, as an extension of the :class:`Simulation`: it builds the cell's
+    devices (arms, operator, proximity sensors, laser, ceiling cameras, Kinect) into the
+    simulation's registry and collision world, steps them after the e-pucks, and answers the
+    simulation's hooks for its objects (removal, moves, velocities, reset)."""
+
     def __init__(self, sim, spec, seed: int):
         self.sim = sim
         self.spec = spec
@@ -45,75 +44,27 @@ class Cell:
                                              for a in spec.arms]
         self.arm_by_name: Dict[str, ArticulatedRobot] = {a.spec.name: a for a in self.arms}
         self._script_time = 0.0
-        # collision primitives of every link: (arm, handle, row in the arm's links, primitive)
-        self._collisions = []
-        for arm in self.arms:
-            for k, (row, part) in enumerate(arm.collision_parts()):
-                link_obj = arm.objects[arm.link_names[row]]
-                handle = self._collision_handle(registry, link_obj, k, arm.spec.name)
-                self._add_primitive(world, handle, part, arm.spec.color, GROUP_ROBOT)
-                self._collisions.append((arm, handle, row, part))
-        self._index_collisions()
-        self.operator = None
+        self._links = LinkCollisions(self.arms, registry, world)
+        self.operator, self.operator_handles = None, ()
         if spec.operator is not None:
-            self.operator = WalkingOperator(spec.operator)
-            o = spec.operator
-            base = registry.add(o.name, reg.SHAPE, reg.WORLD, pose_source=self.operator.pose,
-                                properties=dict(shape="cylinder", color=o.color))
-            world.add_cylinder(base.handle, o.body_radius_m, o.body_height_m, np.zeros(3),
-                               IDENTITY_QUAT, o.color, GROUP_DYNAMIC)
-            head = registry.add(o.name + "_head", reg.SHAPE, base.handle,
-                                (0.0, 0.0, self.operator.head_centre_z),
-                                properties=dict(shape="sphere", color=o.color))
-            world.add_sphere(head.handle, o.head_radius_m, np.zeros(3), IDENTITY_QUAT, o.color,
-                             GROUP_DYNAMIC)
-            self.operator_handles = (base.handle, head.handle)
-        self._build_proximity(registry)
+            self.operator, self.operator_handles = add_operator(spec.operator, registry, world)
+        self.proximity = RayProximityBank(spec.proximity, registry, self._link_row)
         self._build_laser(registry, world)
-        self._build_cameras(registry)
-        self._build_kinect(registry, world)
+        self._build_cameras()
+        self._build_kinect()
         self.scan_due = False
         self.blobs: Dict[str, np.ndarray] = {}
         self._sync_world()
         self._sense()
 
+    # the proximity sensors' arrays the tests read
+    prox_handles = property(lambda self: self.proximity.handles)
+    prox_rows = property(lambda self: self.proximity.rows)
+    prox_distance = property(lambda self: self.proximity.distance)
+
     # --- construction -------------------------------------------------------------------------
-    @staticmethod
-    def _collision_handle(registry, link_obj, k, robot):
-        if k == 0 and "collision" not in link_obj.properties:
-            link_obj.properties["collision"] = True
-            return link_obj.handle
-        name = f"{link_obj.name}_collision{k}"
-        while registry.handle_of(name) >= 0:
-            k += 1
-            name = f"{link_obj.name}_collision{k}"
-        return registry.add(name, reg.SHAPE, link_obj.handle, robot=robot, part=name).handle
-
-    def _index_collisions(self):
-        """The stacked arrays ``_sync_world`` reads, from the arms there are."""
-        first_row, row0 = {}, 0
-        for arm in self.arms:
-            first_row[id(arm)] = row0
-            row0 += len(arm.link_names)
-        kept = [c for c in self._collisions if id(c[0]) in first_row]
-        self._collisions = kept
-        self._handles = np.asarray([h for _, h, _, _ in kept], dtype=np.int32)
-        self._rows = np.asarray([first_row[id(a)] + r for a, _, r, _ in kept], dtype=np.intp)
-        self._offset_p = np.asarray([p.position for *_, p in kept], dtype=float).reshape(-1, 3)
-        self._offset_q = np.asarray([p.quat for *_, p in kept], dtype=float).reshape(-1, 4)
-
-    @staticmethod
-    def _add_primitive(world, handle, part, color, group):
-        if part.shape == "box":
-            world.add_box(handle, 0.5 * np.asarray(part.size), np.zeros(3), IDENTITY_QUAT,
-                          color, group)
-        elif part.shape == "cylinder":
-            world.add_cylinder(handle, part.size[0], part.size[1], np.zeros(3), IDENTITY_QUAT,
-                               color, group)
-        else:
-            world.add_sphere(handle, part.size[0], np.zeros(3), IDENTITY_QUAT, color, group)
-
     def _link_row(self, link_name):
+        """(arm, row among every link, stacked over the arms) of a link by name."""
         row0 = 0
         for arm in self.arms:
             if link_name in arm.link_names:
@@ -121,113 +72,32 @@ class Cell:
             row0 += len(arm.link_names)
         raise ValueError(f"proximity sensor parent '{link_name}' is not a link of a cell robot")
 
-    def _build_proximity(self, registry):
-        self._prox = []                          # (spec, scene object, component)
-        for p in self.spec.proximity:
-            arm, _ = self._link_row(p.parent)
-            quat = quat_from_rpy(*p.rpy_rad)
-            obj = registry.add(p.name, reg.PROXIMITY_SENSOR, arm.objects[p.parent].handle,
-                               p.position_m, quat, robot=arm.spec.name, part=p.name)
-            component = RayProximity(self, len(self._prox))
-            obj.properties["proximity"] = component
-            obj.properties["range_m"] = (p.min_range_m, p.max_range_m)
-            self._prox.append((p, obj, component))
-        self._index_proximity()
-
-    def _index_proximity(self):
-        """The core's ray array and its per-sensor arrays, from the sensors there are."""
-        registry = self.sim.registry
-        self._prox = [entry for entry in self._prox if entry[1].handle in registry]
-        specs = [p for p, _, _ in self._prox]
-        n = len(specs)
-        self.prox_rows = np.zeros(n, dtype=np.intp)
-        self.prox_offset_p = np.zeros((n, 3))
-        self.prox_offset_q = np.tile(IDENTITY_QUAT, (n, 1))
-        for i, (p, _, component) in enumerate(self._prox):
-            self.prox_rows[i] = self._link_row(p.parent)[1]
-            self.prox_offset_p[i] = p.position_m
-            self.prox_offset_q[i] = quat_from_rpy(*p.rpy_rad)
-            component._index = i
-        self.prox_handles = [obj.handle for _, obj, _ in self._prox]
-        self.prox_sensors = _core.RayProximityArray(
-            np.array([p.min_range_m for p in specs]), np.array([p.max_range_m for p in specs]))
-        self.prox_state = np.zeros(n, dtype=np.int32)
-        self.prox_distance = np.full(n, np.inf)
-        self.prox_point = np.zeros((n, 3))
-        self.prox_handle = np.full(n, -1, dtype=np.int32)
-        self.prox_normal = np.zeros((n, 3))
-
     def _build_laser(self, registry, world):
         self.laser = self.spec.laser
         self.laser_ranges = None
         if self.laser is None:
             return
-        s = self.laser
-        obj = registry.add(s.name, reg.SHAPE, reg.WORLD, s.position_m,
-                           quat_from_axis_angle((0, 0, 1), s.yaw_rad),
-                           properties=dict(shape="box", color=(0.1, 0.1, 0.1)))
-        # the scanner's housing (50 x 50 x 70 mm) around the scan origin; the scan ignores it
-        world.add_box(obj.handle, np.array([0.025, 0.025, 0.035]), np.asarray(s.position_m),
-                      obj.local_quat, (0.1, 0.1, 0.1), GROUP_STATIC)
-        self.laser_handle = obj.handle
-        self.scanner = _core.LaserScanner(s.angle_min_rad, s.angle_increment_rad, s.count,
-                                          s.range_min_m, s.range_max_m, s.noise_sigma_m,
-                                          s.noise_relative, self.seed + LASER_SEED_OFFSET)
-        self._scan_every = max(1, int(round(1.0 / (s.rate_hz * self.sim.step_s))))
+        self.laser_handle, self.scanner = add_laser(self.laser, registry, world,
+                                                    self.seed + LASER_SEED_OFFSET)
+        self._scan_every = max(1, int(round(1.0 / (self.laser.rate_hz * self.sim.step_s))))
 
-    def _build_cameras(self, registry):
-        self.cameras: List[CellVision] = []
+    def _build_cameras(self):
         self.camera_specs = self.spec.cameras
-        for c in self.spec.cameras:
-            position, quat = pose_from_vrep_matrix(c.matrix)
-            obj = registry.add(c.name, reg.VISION_SENSOR, reg.WORLD, position, quat)
-            w, h = c.resolution
-            # V-REP's perspective angle spans the larger image side
-            half = math.tan(0.5 * c.angle_rad) * (h / max(w, h))
-            spec = CameraSpec(width=w, height=h, rate_hz=1.0 / self.sim.step_s,
-                              vertical_fov_rad=2.0 * math.atan(half), near_m=c.near_m,
-                              far_m=c.far_m)
-            mask = GROUP_ALL
-            if c.render is not None:
-                if self.operator is None or c.render != self.spec.operator.name:
-                    raise ValueError(f"camera '{c.name}': render entity '{c.render}' must be "
-                                     "the operator")
-                mask = GROUP_DYNAMIC
-            vision = CellVision(self.sim, obj.handle, spec, mask=mask,
-                                blob=bool(c.blob_topics))
-            obj.properties["vision"] = vision
-            self.cameras.append(vision)
+        operator = self.spec.operator.name if self.operator is not None else None
+        self.cameras: List = [add_ceiling_camera(self.sim, c, operator) for c in self.camera_specs]
 
-    def _build_kinect(self, registry, world):
-        k = self.spec.kinect
+    def _build_kinect(self):
         self.kinect_depth = self.kinect_rgb = None
-        if k is None:
-            return
-        base = registry.add(k.name, reg.SHAPE, reg.WORLD, k.position_m, quat_from_rpy(*k.rpy_rad),
-                            properties=dict(shape="box", color=(0.15, 0.15, 0.15)))
-        self.kinect_base = base.handle
-        w, h = k.resolution
-        vfov = 2.0 * math.atan(math.tan(0.5 * k.horizontal_fov_rad) * h / w)
-        spec = CameraSpec(width=w, height=h, rate_hz=30.0, vertical_fov_rad=vfov, near_m=k.near_m,
-                          far_m=k.far_m)
-        self.depth_noise = _core.DepthNoise(seed=self.seed + KINECT_SEED_OFFSET)
-        for suffix, offset_y, noise in (("_depth", -0.0125, self.depth_noise),
-                                        ("_rgb", 0.0125, None)):
-            obj = registry.add(k.name + suffix, reg.VISION_SENSOR, base.handle,
-                               (0.0, offset_y, 0.0), _BODY_TO_VISION)
-            vision = CellVision(self.sim, obj.handle, spec, depth_noise=noise)
-            obj.properties["vision"] = vision
-            if noise is None:
-                self.kinect_rgb = vision
-            else:
-                self.kinect_depth = vision
+        if self.spec.kinect is not None:
+            self.kinect_base, self.kinect_depth, self.kinect_rgb, self.depth_noise = add_kinect(
+                self.sim, self.spec.kinect, self.seed + KINECT_SEED_OFFSET)
 
     # --- stepping -----------------------------------------------------------------------------
     def step(self, dt: float):
         self._script_time += dt
         for arm in self.arms:
             if not arm.external:
-                self._script(arm, self._script_time)
+                scripted_motion(arm, self._script_time)
             arm.move_base(dt)
             arm.apply_commands()
         for _ in range(self.spec.substeps):
@@ -239,32 +109,6 @@ class Cell:
         self._sync_world()
         self._sense()
 
-    def _script(self, arm, t):
-        """Default motions, as the thesis's child scripts: each joint swings sinusoidally about
-        the middle of its range (phase-shifted per joint); a mobile base drives a square."""
-        s = arm.spec
-        if s.script == "none":
-            return
-        w = 2.0 * math.pi / s.script_period_s
-        for k, joint in enumerate(arm.joints):
-            if joint.cyclic:
-                continue
-            lower, upper = joint.lower, joint.upper
-            if joint.prismatic:
-                centre, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
-            else:
-                centre = min(max(0.0, lower), upper)
-                half = min(centre - lower, upper - centre)
-                if half < 0.1 * (upper - lower):      # zero at a stop (youBot): mid-range
-                    centre, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
-            arm.command(k, POSITION, centre + s.script_amplitude * half *
-                        math.sin(w * t + 0.7 * k), external=False)
-        if s.mobile and s.script == "square":
-            side = int(t / (0.25 * s.script_period_s)) % 4
-            speed = 0.15
-            arm.set_twist(*((speed, 0, 0), (0, speed, 0), (-speed, 0, 0), (0, -speed, 0))[side],
-                          external=False)
-
     def link_poses(self):
         """Every link frame in the world, stacked over the robots (as of the last step)."""
         return self._positions, self._quats
@@ -275,9 +119,9 @@ class Cell:
         quats = (np.concatenate([a.link_quat for a in self.arms]) if self.arms
                  else np.zeros((0, 4)))
         self._positions, self._quats = positions, quats
-        handles, p, q = [self._handles], [], []
-        if len(self._handles):
-            wp, wq = world_poses(positions, quats, self._rows, self._offset_p, self._offset_q)
+        handles, p, q = [self._links.handles], [], []
+        if len(self._links.handles):
+            wp, wq = self._links.world_poses(positions, quats)
             p.append(wp)
             q.append(wq)
         if self.operator is not None:
@@ -292,11 +136,7 @@ class Cell:
                                      np.concatenate(q))
 
     def _sense(self):
-        if len(self.prox_rows):
-            sp, sq = world_poses(self._positions, self._quats, self.prox_rows,
-                                 self.prox_offset_p, self.prox_offset_q)
-            (self.prox_state, self.prox_distance, self.prox_point, self.prox_handle,
-             self.prox_normal) = self.prox_sensors.read(self.sim.world, sp, sq, -1, GROUP_ALL)
+        self.proximity.sense(self.sim.world, self._positions, self._quats)
         if self.laser is not None and self.sim.frame % self._scan_every == 0:
             position, quat = self.sim.registry.world_pose(self.laser_handle)
             self.laser_ranges = self.scanner.scan(self.sim.world, position, quat,
@@ -324,7 +164,7 @@ class Cell:
                                  f"'{self.sim.registry.get(self.operator_handles[0]).name}' "
                                  "instead")
             return True
-        if obj.handle in self.prox_handles:
+        if obj.handle in self.proximity.handles:
             return True
         if obj.robot in self.arm_by_name:
             arm = self.arm_by_name[obj.robot]
@@ -352,8 +192,8 @@ class Cell:
             pb.removeBody(arm.body, physicsClientId=self.client)
             self.arms.remove(arm)
             del self.arm_by_name[arm.spec.name]
-        self._index_collisions()
-        self._index_proximity()
+        self._links.index(self.arms)
+        self.proximity.index(self.sim.registry)
         if self.operator is not None and self.operator_handles[0] in removed:
             self.operator, self.operator_handles = None, ()
         if self.laser is not None and self.laser_handle in removed:

@@ -32,16 +32,16 @@ from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 from vrep_common.srv import simRosEnablePublisherRequest
 
-from epuck_vrep_compat.cell.articulated import POSITION, VELOCITY
+from epuck_vrep_compat.devices.articulated import POSITION, VELOCITY
 from epuck_vrep_compat.ros import names
 from epuck_vrep_compat.ros.led_face import shape_marker
 from epuck_vrep_compat.ros.log import ThrottledLog
 from epuck_vrep_compat.ros.publishing import synchronous_publisher
 from epuck_vrep_compat.ros.wire import TransformBatchWire
+from epuck_vrep_compat.scene.vrep_codes import WORLD_FRAME
 from epuck_vrep_compat.sim.control import STOPPED
 from epuck_vrep_compat.vrep import constants as vc
 
-WORLD_FRAME = "world"
 CELL_MARKER_TOPIC = "/vrep/cell_markers"
 _DEVICE_COLOR = ColorRGBA(0.15, 0.15, 0.15, 1.0)
 

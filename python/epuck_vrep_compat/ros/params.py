@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 
 import rospy
 
+from epuck_vrep_compat.devices.components import CameraSpec
 from epuck_vrep_compat.ros.commands import SCALINGS
 from epuck_vrep_compat.ros.names import PROFILES
-from epuck_vrep_compat.sim.components import CameraSpec
 from epuck_vrep_compat.sim.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
 

@@ -20,6 +20,7 @@ from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
 
+from epuck_vrep_compat.cell.world import build_simulation
 from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.camera_face import CameraFace
 from epuck_vrep_compat.ros.epuck_face import EpuckFace
@@ -34,7 +35,6 @@ from epuck_vrep_compat.ros.vrep_face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
-from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
@@ -52,8 +52,8 @@ class SimulatorNode:
         profile = PROFILES[params.profile]
         names = [profile.robot_name(i) for i in range(params.n)]
         try:
-            self.sim = Simulation(scene, names, params.step_s, params.seed, params.noise,
-                                  params.cmd_timeout_s, params.camera, profile.robot_name)
+            self.sim = build_simulation(scene, names, params.step_s, params.seed, params.noise,
+                                        params.cmd_timeout_s, params.camera, profile.robot_name)
         except SceneError as e:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
         # Reentrant: a service holding it may stop the simulation, whose listeners reset it.

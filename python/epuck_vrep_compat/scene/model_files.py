@@ -19,7 +19,7 @@ import os
 from dataclasses import dataclass
 from typing import Tuple
 
-from epuck_vrep_compat.scene.scene_file import SceneError, _number, _numbers, _only, read_yaml
+from epuck_vrep_compat.scene.validation import SceneError, number, numbers, only, read_yaml
 
 ROBOTS = ("epuck",)
 _EXTENSIONS = (".ttm", ".yaml")
@@ -32,6 +32,7 @@ class ModelFileError(ValueError):
 
 @dataclass(frozen=True)
 class ModelFile:
+    """A model file, read and checked: the robot it loads and where it goes."""
     path: str
     robot: str = "epuck"
     position_m: Tuple[float, float] = (0.0, 0.0)
@@ -79,15 +80,15 @@ class ModelLibrary:
 def read_model_file(path: str) -> ModelFile:
     data = _load(path)
     try:
-        _only(data, {"robot", "aliases", "position_m", "yaw_rad"}, path)
+        only(data, {"robot", "aliases", "position_m", "yaw_rad"}, path)
         robot = data.get("robot")
         if robot not in ROBOTS:
             raise SceneError(f"{path}: robot must be one of {list(ROBOTS)}, got {robot!r}")
         aliases = data.get("aliases", [])
         if not isinstance(aliases, list) or not all(isinstance(a, str) for a in aliases):
             raise SceneError(f"{path}: aliases must be a list of file names, got {aliases!r}")
-        position = tuple(_numbers(data.get("position_m", [0.0, 0.0]), 2, f"{path}: position_m"))
-        yaw = _number(data.get("yaw_rad", 0.0), f"{path}: yaw_rad")
+        position = tuple(numbers(data.get("position_m", [0.0, 0.0]), 2, f"{path}: position_m"))
+        yaw = number(data.get("yaw_rad", 0.0), f"{path}: yaw_rad")
     except SceneError as e:
         raise ModelFileError(str(e)) from None
     return ModelFile(path, robot, position, yaw)

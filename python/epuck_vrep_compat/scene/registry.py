@@ -13,23 +13,19 @@ import numpy as np
 
 from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, compose
 
-# V-REP object type codes (v_repConst.h)
-SHAPE = 0
-JOINT = 1
-CAMERA = 3
-DUMMY = 4
-PROXIMITY_SENSOR = 5
-VISION_SENSOR = 9
-FORCE_SENSOR = 12
-LIGHT = 13
-
-WORLD = -1
+# V-REP object type codes by the short names the scene uses (the one table: vrep_codes)
+from epuck_vrep_compat.scene.vrep_codes import (  # noqa: F401  (reg.SHAPE, reg.WORLD...)
+    WORLD, OBJECT_CAMERA as CAMERA, OBJECT_DUMMY as DUMMY, OBJECT_FORCE_SENSOR as FORCE_SENSOR,
+    OBJECT_JOINT as JOINT, OBJECT_LIGHT as LIGHT, OBJECT_PROXIMITY_SENSOR as PROXIMITY_SENSOR,
+    OBJECT_SHAPE as SHAPE, OBJECT_VISION_SENSOR as VISION_SENSOR)
 
 PoseSource = Callable[[], Tuple[np.ndarray, np.ndarray]]
 
 
 @dataclass
 class SceneObject:
+    """One object of the scene, as V-REP's API sees it: handle, name, type, parent, pose
+    (stored or from a pose source), owner robot and its components (``properties``)."""
     handle: int
     name: str
     object_type: int

@@ -9,15 +9,14 @@ import os
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
-import yaml
-
-
-class SceneError(ValueError):
-    """A scene file that cannot be used; the message names the key."""
+from epuck_vrep_compat.scene.cell_file import CellSpec, parse_cell
+from epuck_vrep_compat.scene.validation import (  # noqa: F401  (SceneError, read_yaml: API)
+    SceneError, as_list, color, number, numbers, only, positive, read_yaml)
 
 
 @dataclass
 class Obstacle:
+    """A static box or cylinder of the arena."""
     name: str
     shape: str                                   # "box" | "cylinder"
     position_m: Tuple[float, float]
@@ -35,12 +34,14 @@ class Obstacle:
 
 @dataclass
 class RobotStart:
+    """Where an e-puck starts."""
     position_m: Tuple[float, float]
     yaw_rad: float = 0.0
 
 
 @dataclass
 class Arena:
+    """The arena's floor and walls."""
     size_m: Tuple[float, float] = (1.0, 1.0)
     wall_height_m: float = 0.05
     wall_thickness_m: float = 0.01
@@ -51,10 +52,11 @@ class Arena:
 
 @dataclass
 class Scene:
+    """A scene file, parsed: arena, obstacles, robot starts and the optional cell."""
     arena: Arena = field(default_factory=Arena)
     obstacles: List[Obstacle] = field(default_factory=list)
     robots: List[RobotStart] = field(default_factory=list)
-    cell: Optional[object] = None            # cell.cell_file.CellSpec: arms, operator, sensors
+    cell: Optional[CellSpec] = None          # arms, operator, sensors
     source: Optional[str] = None
 
 
@@ -66,33 +68,21 @@ def load_scene(path: str) -> Scene:
     return scene
 
 
-def read_yaml(path: str, what: str):
-    """The content of a YAML file; SceneError saying which ``what`` could not be read."""
-    try:
-        with open(path, "r", encoding="utf-8") as f:
-            return yaml.safe_load(f)
-    except OSError as e:
-        raise SceneError(f"cannot read {what} '{path}': {e.strerror}") from e
-    except yaml.YAMLError as e:
-        raise SceneError(f"{what} '{path}' is not valid YAML: {e}") from e
-
-
 def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:
     """``base_dir``: where relative file names in the scene (URDFs) are looked up."""
     if not isinstance(data, dict):
         raise SceneError(f"{where}: the top level must be a mapping")
-    _only(data, {"arena", "obstacles", "robots", "cell"}, where)
+    only(data, {"arena", "obstacles", "robots", "cell"}, where)
     arena = _arena(data.get("arena", {}), f"{where}: arena")
     obstacles = [_obstacle(o, i, f"{where}: obstacles[{i}]")
-                 for i, o in enumerate(_list(data.get("obstacles", []), f"{where}: obstacles"))]
+                 for i, o in enumerate(as_list(data.get("obstacles", []), f"{where}: obstacles"))]
     names = [o.name for o in obstacles]
     if len(set(names)) != len(names):
         raise SceneError(f"{where}: obstacles: names must be unique")
     robots = [_robot(r, f"{where}: robots[{i}]")
-              for i, r in enumerate(_list(data.get("robots", []), f"{where}: robots"))]
+              for i, r in enumerate(as_list(data.get("robots", []), f"{where}: robots"))]
     cell = None
     if "cell" in data:
-        from epuck_vrep_compat.cell.cell_file import parse_cell
         cell = parse_cell(data["cell"], f"{where}: cell", base_dir)
     return Scene(arena, obstacles, robots, cell)
 
@@ -100,16 +90,16 @@ def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:
 def _arena(d, where) -> Arena:
     if not isinstance(d, dict):
         raise SceneError(f"{where} must be a mapping")
-    _only(d, {"size_m", "wall_height_m", "wall_thickness_m", "wall_color", "floor_color",
+    only(d, {"size_m", "wall_height_m", "wall_thickness_m", "wall_color", "floor_color",
               "floor_name"}, where)
     a = Arena()
     if "size_m" in d:
-        a.size_m = tuple(_numbers(d["size_m"], 2, f"{where}.size_m", positive=True))
-    a.wall_height_m = _positive(d.get("wall_height_m", a.wall_height_m), f"{where}.wall_height_m")
-    a.wall_thickness_m = _positive(d.get("wall_thickness_m", a.wall_thickness_m),
+        a.size_m = tuple(numbers(d["size_m"], 2, f"{where}.size_m", positive=True))
+    a.wall_height_m = positive(d.get("wall_height_m", a.wall_height_m), f"{where}.wall_height_m")
+    a.wall_thickness_m = positive(d.get("wall_thickness_m", a.wall_thickness_m),
                                    f"{where}.wall_thickness_m")
-    a.wall_color = _color(d.get("wall_color", a.wall_color), f"{where}.wall_color")
-    a.floor_color = _color(d.get("floor_color", a.floor_color), f"{where}.floor_color")
+    a.wall_color = color(d.get("wall_color", a.wall_color), f"{where}.wall_color")
+    a.floor_color = color(d.get("floor_color", a.floor_color), f"{where}.floor_color")
     a.floor_name = d.get("floor_name", a.floor_name)
     if not isinstance(a.floor_name, str) or not a.floor_name:
         raise SceneError(f"{where}.floor_name must be a non-empty string")
@@ -119,7 +109,7 @@ def _arena(d, where) -> Arena:
 def _obstacle(d, index, where) -> Obstacle:
     if not isinstance(d, dict):
         raise SceneError(f"{where} must be a mapping")
-    _only(d, {"name", "shape", "position_m", "yaw_rad", "size_m", "radius_m", "height_m",
+    only(d, {"name", "shape", "position_m", "yaw_rad", "size_m", "radius_m", "height_m",
               "color"}, where)
     shape = d.get("shape")
     if shape not in ("box", "cylinder"):
@@ -127,59 +117,21 @@ def _obstacle(d, index, where) -> Obstacle:
     if "position_m" not in d:
         raise SceneError(f"{where}.position_m is required")
     o = Obstacle(name=str(d.get("name", f"obstacle{index}")), shape=shape,
-                 position_m=tuple(_numbers(d["position_m"], 2, f"{where}.position_m")))
-    o.yaw_rad = _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
+                 position_m=tuple(numbers(d["position_m"], 2, f"{where}.position_m")))
+    o.yaw_rad = number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
     if "size_m" in d:
-        o.size_m = tuple(_numbers(d["size_m"], 3, f"{where}.size_m", positive=True))
-    o.radius_m = _positive(d.get("radius_m", o.radius_m), f"{where}.radius_m")
-    o.height_m = _positive(d.get("height_m", o.height_m), f"{where}.height_m")
-    o.color = _color(d.get("color", o.color), f"{where}.color")
+        o.size_m = tuple(numbers(d["size_m"], 3, f"{where}.size_m", positive=True))
+    o.radius_m = positive(d.get("radius_m", o.radius_m), f"{where}.radius_m")
+    o.height_m = positive(d.get("height_m", o.height_m), f"{where}.height_m")
+    o.color = color(d.get("color", o.color), f"{where}.color")
     return o
 
 
 def _robot(d, where) -> RobotStart:
     if not isinstance(d, dict):
         raise SceneError(f"{where} must be a mapping")
-    _only(d, {"position_m", "yaw_rad"}, where)
+    only(d, {"position_m", "yaw_rad"}, where)
     if "position_m" not in d:
         raise SceneError(f"{where}.position_m is required")
-    return RobotStart(tuple(_numbers(d["position_m"], 2, f"{where}.position_m")),
-                      _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad"))
-
-
-def _only(d, allowed, where):
-    unknown = sorted(set(d) - allowed)
-    if unknown:
-        raise SceneError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
-
-
-def _list(v, where):
-    if not isinstance(v, list):
-        raise SceneError(f"{where} must be a list")
-    return v
-
-
-def _number(v, where) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise SceneError(f"{where} must be a finite number, got {v!r}")
-    return float(v)
-
-
-def _positive(v, where) -> float:
-    x = _number(v, where)
-    if x <= 0.0:
-        raise SceneError(f"{where} must be positive, got {v!r}")
-    return x
-
-
-def _numbers(v, n, where, positive=False):
-    if not isinstance(v, (list, tuple)) or len(v) != n:
-        raise SceneError(f"{where} must be a list of {n} numbers, got {v!r}")
-    return [(_positive if positive else _number)(x, where) for x in v]
-
-
-def _color(v, where):
-    c = _numbers(v, 3, where)
-    if any(x < 0.0 or x > 1.0 for x in c):
-        raise SceneError(f"{where} components must be in 0..1, got {v!r}")
-    return tuple(c)
+    return RobotStart(tuple(numbers(d["position_m"], 2, f"{where}.position_m")),
+                      number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad"))

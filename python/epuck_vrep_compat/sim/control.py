@@ -14,6 +14,9 @@ RUNNING, PAUSED, STOPPED = "running", "paused", "stopped"
 
 
 class SimulationControl:
+    """The simulation's run state (running, paused, stopped; free or synchronous), as V-REP's
+    start, pause, stop and trigger calls change it."""
+
     def __init__(self, sim, initial_state: str = RUNNING):
         self._sim = sim
         self._lock = threading.Lock()

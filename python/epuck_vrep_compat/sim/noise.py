@@ -19,6 +19,7 @@ class NoiseConfigError(ValueError):
 
 @dataclass
 class IrNoise:
+    """The e-puck's infrared proximity noise, per sensor: probability, mean and spread."""
     probability: np.ndarray = field(default_factory=lambda: np.full(IR_COUNT, 0.16))
     mean_m: np.ndarray = field(default_factory=lambda: np.zeros(IR_COUNT))
     stddev_m: np.ndarray = field(default_factory=lambda: np.full(IR_COUNT, 0.003))

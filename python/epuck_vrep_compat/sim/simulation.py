@@ -9,6 +9,10 @@ faces follow. Robot rows (``robot_names``, ``robots``, ``start_poses``, the comm
 the core's outputs) stay in step: a removal shifts the later rows up by one. Handles never
 change: a removed object's handle is never given again. Commands arrive on other threads by
 robot name, and find the robot's row under a lock of their own.
+
+What the e-pucks' arena does not hold (the industrial cell) comes in as an extension
+(:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`): the simulation calls its hooks
+and never names it.
 """
 import math
 import threading
@@ -18,6 +22,7 @@ from typing import Callable, List, Sequence
 import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
+from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import (
     RobotParts, default_model, next_robot_number, register_epuck)
@@ -25,7 +30,7 @@ from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
-from epuck_vrep_compat.sim.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.sim.noise import NoiseSettings
 
 
@@ -38,6 +43,10 @@ class RobotCommand:
 
 
 class Simulation:
+    """The simulated world the ROS faces and the V-REP API read and drive: the scene registry,
+    the core's collision world and e-puck swarm, the robots' commands, and the extensions
+    (:attr:`extensions`) that add more to the scene."""
+
     def __init__(self, scene: Scene, robot_names: Sequence[str], step_s: float = 0.05,
                  seed: int = 0, noise: NoiseSettings = None, cmd_timeout_s: float = 1.0,
                  camera: CameraSpec = None, robot_namer: Callable[[int], str] = None):
@@ -70,10 +79,15 @@ class Simulation:
         self.noise.apply(self.swarm, self.robot_names)
         self.frame = 0
         self._refresh()
-        self.cell = None
-        if scene.cell is not None:
-            from epuck_vrep_compat.cell.cell import Cell     # pybullet only when a cell is used
-            self.cell = Cell(self, scene.cell, self.seed)
+        self.extensions: List[SimulationExtension] = []
+
+    def add_extension(self, extension: SimulationExtension):
+        """From now on the simulation calls ``extension``'s hooks (after those added before)."""
+        self.extensions.append(extension)
+
+    def _owner(self, obj):
+        """The extension that owns ``obj``, or None."""
+        return next((e for e in self.extensions if e.owns(obj)), None)
 
     # --- robots and objects added and removed ---------------------------------------------
     def add_robot(self, near_xy=(0.0, 0.0), yaw_rad: float = 0.0) -> RobotParts:
@@ -108,15 +122,16 @@ class Simulation:
 
     def remove_object(self, handle: int) -> List[int]:
         """Remove a scene object (with its children) or, for a robot's base object, the whole
-        robot (the cell's objects: see :meth:`Cell.claims_removal`); returns the removed
-        handles. KeyError for an unknown handle; ValueError for a part of a robot (a robot is
-        removed whole)."""
+        robot (an extension's objects: see :meth:`SimulationExtension.claims_removal`);
+        returns the removed handles. KeyError for an unknown handle; ValueError for a part of a
+        robot (a robot is removed whole)."""
         obj = self.registry.get(handle)
-        if self.cell is not None and self.cell.claims_removal(obj):
-            removed = self._remove_subtree(handle)
-            self.cell.forget(set(removed))
-            self._changed()
-            return removed
+        for extension in self.extensions:
+            if extension.claims_removal(obj):
+                removed = self._remove_subtree(handle)
+                extension.forget(set(removed))
+                self._changed()
+                return removed
         if obj.robot is not None:
             if obj.part != "root":
                 base = self.robots[self._index_by_name[obj.robot]].root.name
@@ -210,8 +225,9 @@ class Simulation:
         """Teleport a robot (its base object: x, y and yaw; robots stay on the ground) or a
         free scene object. Parts of a robot are rigid: ValueError. A refused pose (ValueError)
         leaves everything as it was."""
-        if self.cell is not None and self.cell.owns(obj):
-            self.cell.move_object(obj, position, quat)
+        owner = self._owner(obj)
+        if owner is not None:
+            owner.move_object(obj, position, quat)
             return
         if obj.robot is not None:
             if obj.part != "root":
@@ -230,8 +246,9 @@ class Simulation:
 
     def object_velocity(self, obj):
         """(linear (3), angular (3)) in the world frame; robot parts move with their robot."""
-        if self.cell is not None and self.cell.owns(obj):
-            return self.cell.object_velocity(obj)
+        owner = self._owner(obj)
+        if owner is not None:
+            return owner.object_velocity(obj)
         if obj.robot is None:
             return np.zeros(3), np.zeros(3)
         vx, vy, wz = self.swarm.velocities[self._index_by_name[obj.robot]]
@@ -253,8 +270,8 @@ class Simulation:
             self.command.wheel_rad_s[stale] = 0.0
         self.swarm.step(self.step_s, self.command.wheel_rad_s)
         self.frame += 1
-        if self.cell is not None:
-            self.cell.step(self.step_s)
+        for extension in self.extensions:
+            extension.step(self.step_s)
         self._refresh()
 
     def reset(self):
@@ -268,5 +285,5 @@ class Simulation:
             self.command.stamp_s[:] = -np.inf
         self.swarm.reseed(self.seed)
         self._refresh()
-        if self.cell is not None:
-            self.cell.reset()
+        for extension in self.extensions:
+            extension.reset()

@@ -2,14 +2,15 @@
 defaults of the nodes' private parameters), node names and topics.
 
 The object names are the V-REP-style names of the cell we build, from the models' own table
-(:mod:`epuck_vrep_compat.cell.robots`). The youBot's 16 joints are in the order of the thesis's
+(:mod:`epuck_vrep_compat.scene.robots`). The youBot's 16 joints are in the order of the thesis's
 ``YouBotMsg``: arm, gripper fingers, the four wheel motors, the four passive mecanum roller
 joints, and the gripper's drive pinion (models/README.md says why).
 """
 from dataclasses import dataclass
 from typing import Tuple
 
-from epuck_vrep_compat.cell import robots as models
+from epuck_vrep_compat.scene import robots as models
+from epuck_vrep_compat.scene.vrep_codes import WORLD_FRAME  # noqa: F401  (headerGiunto frame)
 
 VREP_NODE = "/vrep"
 
@@ -38,7 +39,7 @@ class Robot:
         return f"N{self.label}_PosOr{'Ass' if absolute else 'Rel'}"
 
 
-# Object names: the cell's models (one table, cell/robots.py).
+# Object names: the cell's models (one table, scene/robots.py).
 COMAU = Robot("Comau", "comau", models.COMAU_SMART_SIX.base_link, models.COMAU_SMART_SIX.joints)
 IRB = Robot("Irb", "irb", models.IRB140.base_link, models.IRB140.joints)
 YOUBOT = Robot("YouBot", "youbot", models.YOUBOT.base_link, models.YOUBOT.joints)
@@ -74,4 +75,3 @@ KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
 # The operator's blob, published by the cameras' child scripts through the plugin (thesis 5.1).
 BLOB_TOPIC_FORMAT = "/vrep/Blob_Camera_{camera}_{axis}"
 
-WORLD_FRAME = "world"           # headerGiunto.header.frame_id of absolute poses

@@ -7,23 +7,23 @@ what an object does comes from its components (``joint``, ``proximity``, ``visio
 Callers hold the simulation lock: the core is not thread-safe.
 """
 import collections
+import functools
 import math
 
-import numpy as np
-
-from epuck_vrep_compat._core import WORLD_LIMIT_M
-from epuck_vrep_compat.scene.transforms import compose, inverse, normalized_quat
-from epuck_vrep_compat.sim.components import ComponentError
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED
 from epuck_vrep_compat.vrep import constants as vc
-from epuck_vrep_compat.vrep.errors import VrepError
+from epuck_vrep_compat.vrep.devices import VrepDevices
+from epuck_vrep_compat.vrep.errors import VrepError  # noqa: F401  (the API's error, re-exported)
 from epuck_vrep_compat.vrep.models import VrepModels
+from epuck_vrep_compat.vrep.objects import VrepObjects
 from epuck_vrep_compat.vrep.parameters import VrepParameters
 
 MAX_ERRORS = 50            # the plugin keeps the last 50
 
 
 class ErrorLog:
+    """The reasons of the last failed calls, for simRosGetLastErrors."""
+
     def __init__(self):
         self._errors = collections.deque(maxlen=MAX_ERRORS)
 
@@ -37,205 +37,74 @@ class ErrorLog:
         return errors
 
 
-class VrepBackend(VrepParameters, VrepModels):
+def _part(part: str, method):
+    """A backend method that calls ``method`` of the backend's part named ``part``."""
+    @functools.wraps(method)
+    def call(self, *args, **kwargs):
+        return method(getattr(self, part), *args, **kwargs)
+    return call
+
+
+class VrepBackend:
+    """V-REP's API on one simulation, as the ``/vrep`` services and streams call it: one flat
+    set of calls, served by its parts (objects: :class:`VrepObjects`, joints and sensors:
+    :class:`VrepDevices`, parameters: :class:`VrepParameters`, robots added and removed:
+    :class:`VrepModels`) and by itself (signals, simulation state, the error log)."""
+
     def __init__(self, sim, control, real_time: bool, models=None):
         """``models``: the ModelLibrary simLoadModel reads (None: loading always fails)."""
         self.sim = sim
         self.control = control
-        self.real_time = real_time
-        self.models = models
+        self._objects = VrepObjects(sim)
+        self._devices = VrepDevices(self._objects)
+        self._parameters = VrepParameters(self._objects, control, real_time)
+        self._models = VrepModels(self._objects, models)
         self.errors = ErrorLog()
         self.signals = {"int": {}, "float": {}, "string": {}}
-        self._selection = []
 
-    # --- objects ------------------------------------------------------------------------
-    def _object(self, handle: int):
-        try:
-            return self.sim.registry.get(int(handle))
-        except (KeyError, TypeError, ValueError):
-            raise VrepError(f"object handle {handle} does not exist") from None
+    # --- objects -----------------------------------------------------------------------------
+    object_handle = _part("_objects", VrepObjects.object_handle)
+    object_name = _part("_objects", VrepObjects.object_name)
+    object_type = _part("_objects", VrepObjects.object_type)
+    objects = _part("_objects", VrepObjects.objects)
+    parent = _part("_objects", VrepObjects.parent)
+    child = _part("_objects", VrepObjects.child)
+    selection = _part("_objects", VrepObjects.selection)
+    set_selection = _part("_objects", VrepObjects.set_selection)
+    pose = _part("_objects", VrepObjects.pose)
+    set_pose = _part("_objects", VrepObjects.set_pose)
+    velocity = _part("_objects", VrepObjects.velocity)
 
-    def object_handle(self, name: str) -> int:
-        """simGetObjectHandle: ``name#k`` is the copy with suffix k; a trailing ``#`` means
-        the object without suffix (V-REP's notation for "no suffix")."""
-        handle = self.sim.registry.handle_of(name[:-1] if name.endswith("#") else name)
-        if handle < 0:
-            raise VrepError(f"object '{name}' does not exist")
-        return handle
+    # --- devices -----------------------------------------------------------------------------
+    joint = _part("_devices", VrepDevices.joint)
+    joints = _part("_devices", VrepDevices.joints)
+    joint_state = _part("_devices", VrepDevices.joint_state)
+    joint_command = _part("_devices", VrepDevices.joint_command)
+    proximity = _part("_devices", VrepDevices.proximity)
+    vision = _part("_devices", VrepDevices.vision)
+    vision_image = _part("_devices", VrepDevices.vision_image)
+    vision_depth = _part("_devices", VrepDevices.vision_depth)
+    read_vision_sensor = _part("_devices", VrepDevices.read_vision_sensor)
+    read_force_sensor = _part("_devices", VrepDevices.read_force_sensor)
+    read_collision = _part("_devices", VrepDevices.read_collision)
+    read_distance = _part("_devices", VrepDevices.read_distance)
 
-    def object_name(self, handle: int) -> str:
-        return self._object(handle).name
+    # --- parameters --------------------------------------------------------------------------
+    boolean_parameter = _part("_parameters", VrepParameters.boolean_parameter)
+    set_boolean_parameter = _part("_parameters", VrepParameters.set_boolean_parameter)
+    floating_parameter = _part("_parameters", VrepParameters.floating_parameter)
+    set_floating_parameter = _part("_parameters", VrepParameters.set_floating_parameter)
+    integer_parameter = _part("_parameters", VrepParameters.integer_parameter)
+    array_parameter = _part("_parameters", VrepParameters.array_parameter)
+    string_parameter = _part("_parameters", VrepParameters.string_parameter)
+    object_float_parameter = _part("_parameters", VrepParameters.object_float_parameter)
+    object_int_parameter = _part("_parameters", VrepParameters.object_int_parameter)
 
-    def object_type(self, handle: int) -> int:
-        return self._object(handle).object_type
-
-    def objects(self, object_type: int):
-        """Handles of all objects of a type (``sim_handle_all`` or 109: every object)."""
-        everything = object_type in (vc.HANDLE_ALL, vc.APPOBJ_OBJECT)
-        if not everything and not 0 <= object_type < vc.OBJECT_TYPE_END:
-            raise VrepError(f"object type {object_type} is not valid")
-        return [o.handle for o in self.sim.registry.objects()
-                if everything or o.object_type == object_type]
-
-    def parent(self, handle: int) -> int:
-        return self._object(handle).parent
-
-    def child(self, handle: int, index: int) -> int:
-        """The index-th child, or -1 when there is none (not an error in V-REP)."""
-        children = self.sim.registry.children(self._object(handle).handle)
-        return children[index].handle if 0 <= index < len(children) else -1
-
-    # --- selection ------------------------------------------------------------------------
-    def selection(self):
-        """simGetObjectSelection: the selected objects that still exist, in selection order."""
-        return [h for h in self._selection if h in self.sim.registry]
-
-    def set_selection(self, handles):
-        """Clear the selection, then simAddObjectToSelection each handle; returns the handles
-        that do not exist (skipped, each an error in V-REP)."""
-        self._selection = []
-        missing = []
-        for handle in (int(h) for h in handles):
-            if handle not in self.sim.registry:
-                missing.append(handle)
-            elif handle not in self._selection:
-                self._selection.append(handle)
-        return missing
-
-    # --- poses --------------------------------------------------------------------------
-    def _reference(self, handle: int, relative_to: int):
-        """World pose of the frame ``relative_to`` refers to, or None for the world."""
-        if relative_to == vc.WORLD:
-            return None
-        if relative_to == vc.HANDLE_PARENT:
-            relative_to = self._object(handle).parent
-            if relative_to == vc.WORLD:
-                return None
-        self._object(relative_to)
-        return self.sim.registry.world_pose(relative_to)
-
-    def pose(self, handle: int, relative_to: int = vc.WORLD):
-        """(position (3), quaternion x, y, z, w) of an object in another's frame."""
-        self._object(handle)
-        position, quat = self.sim.registry.world_pose(handle)
-        reference = self._reference(handle, relative_to)
-        if reference is None:
-            return position, quat
-        inv_p, inv_q = inverse(*reference)
-        return compose(inv_p, inv_q, position, quat)
-
-    def set_pose(self, handle: int, relative_to: int, position=None, quat=None):
-        """Move an object (a robot's base or a free scene object); parts of a robot model are
-        rigid and refuse (V-REP would break the model). All or nothing: the whole request is
-        checked (finite, within the world) before the scene is touched."""
-        obj = self._object(handle)
-        old_p, old_q = self.pose(handle, relative_to)
-        new_p = old_p if position is None else np.asarray(position, dtype=float)
-        if not np.all(np.isfinite(new_p)) or new_p.shape != (3,):
-            raise VrepError(f"position {position} is not 3 finite numbers")
-        new_q = old_q if quat is None else normalized_quat(quat)
-        if new_q is None:
-            raise VrepError(f"quaternion {quat} is zero or not finite")
-        reference = self._reference(handle, relative_to)
-        if reference is not None:
-            new_p, new_q = compose(*reference, new_p, new_q)
-        if not np.all(np.abs(new_p) <= WORLD_LIMIT_M):    # refused before anything is stored
-            raise VrepError(f"position {np.asarray(new_p).tolist()} in the world frame is "
-                            f"beyond ±{WORLD_LIMIT_M:g} m")
-        try:
-            self.sim.move_object(obj, new_p, new_q)
-        except ValueError as e:
-            raise VrepError(str(e)) from None
-
-    def velocity(self, handle: int):
-        """(linear (3), angular (3)) world velocity of an object (robots move, the rest is
-        static)."""
-        obj = self._object(handle)
-        return self.sim.object_velocity(obj)
-
-    # --- joints -------------------------------------------------------------------------
-    def joint(self, handle: int):
-        obj = self._object(handle)
-        joint = obj.properties.get("joint")
-        if obj.object_type != vc.OBJECT_JOINT or joint is None:
-            raise VrepError(f"object {handle} ('{obj.name}') is not a joint")
-        return joint
-
-    def joints(self):
-        return [o.handle for o in self.sim.registry.objects() if o.object_type == vc.OBJECT_JOINT]
-
-    def joint_state(self, handle: int):
-        joint = self.joint(handle)
-        return joint.position(), joint.velocity(), joint.effort()
-
-    def joint_command(self, handle: int, what: str, value: float):
-        """``what`` is position, target_position, target_velocity or force."""
-        value = float(value)
-        if not math.isfinite(value):
-            raise VrepError(f"joint {what} {value} is not finite")
-        joint = self.joint(handle)
-        try:
-            getattr(joint, "set_" + what)(value)
-        except ComponentError as e:
-            raise VrepError(f"joint {handle}: {e}") from None
-
-    # --- sensors ------------------------------------------------------------------------
-    def proximity(self, handle: int):
-        obj = self._object(handle)
-        sensor = obj.properties.get("proximity")
-        if sensor is None:
-            raise VrepError(f"object {handle} ('{obj.name}') is not a proximity sensor")
-        return sensor.read()
-
-    def vision(self, handle: int):
-        obj = self._object(handle)
-        sensor = obj.properties.get("vision")
-        if sensor is None:
-            raise VrepError(f"object {handle} ('{obj.name}') is not a vision sensor")
-        return sensor
-
-    def vision_image(self, handle: int, mono: bool):
-        """Image rows top first (ROS order): rgb (H, W, 3) or grey (H, W) = (r + g + b) / 3."""
-        rgb, _ = self.vision(handle).render()
-        if mono:
-            return (rgb.astype(np.uint16).sum(axis=2) // 3).astype(np.uint8)
-        return rgb
-
-    def vision_depth(self, handle: int):
-        """V-REP's depth buffer: (W, H), values 0..1 between the clipping planes, first row =
-        bottom of the image (V-REP's order)."""
-        sensor = self.vision(handle)
-        _, depth = sensor.render()
-        return sensor.resolution, _normalised_depth(sensor.spec, depth)[::-1].astype(np.float32)
-
-    def read_vision_sensor(self, handle: int):
-        """simReadVisionSensor: (detection state, auxiliary packets). Our sensors have V-REP's
-        default filter, which triggers nothing (state 0) and gives packet 1 only: min, max and
-        average of intensity, red, green, blue and depth, all in 0..1. A sensor with a blob
-        filter adds packet 2: [blob count, 6, per blob size, orientation, x, y, width, height]."""
-        sensor = self.vision(handle)
-        rgb, depth = sensor.render()
-        colour = rgb.reshape(-1, 3).astype(np.float64) / 255.0
-        channels = np.column_stack((colour.mean(axis=1), colour,
-                                    _normalised_depth(sensor.spec, depth).reshape(-1)))
-        packet = np.concatenate((channels.min(axis=0), channels.max(axis=0),
-                                 channels.mean(axis=0)))
-        if getattr(sensor, "blob", False):
-            # a blob detection filter (the cell's ceiling cameras): packet 2 is its output, and
-            # it triggers detection while it finds a blob
-            blobs = sensor.blob_packet()
-            return int(blobs[0] > 0), [packet.tolist(), blobs.tolist()]
-        return 0, [packet.tolist()]
-
-    def read_force_sensor(self, handle: int):
-        obj = self._object(handle)
-        raise VrepError(f"object {handle} ('{obj.name}') is not a force sensor")
-
-    def read_collision(self, handle: int):
-        raise VrepError(f"collision object {handle} does not exist (the scene defines none)")
-
-    def read_distance(self, handle: int):
-        raise VrepError(f"distance object {handle} does not exist (the scene defines none)")
+    # --- models ------------------------------------------------------------------------------
+    read_model = _part("_models", VrepModels.read_model)
+    load_model = _part("_models", VrepModels.load_model)
+    copy_paste = _part("_models", VrepModels.copy_paste)
+    remove_object = _part("_models", VrepModels.remove_object)
 
     # --- signals ------------------------------------------------------------------------
     def signal(self, kind: str, name: str):
@@ -269,7 +138,7 @@ class VrepBackend(VrepParameters, VrepModels):
             bits |= vc.STATE_NOT_STOPPED
         if state == PAUSED:
             bits |= vc.STATE_PAUSED
-        if self.real_time:
+        if self._parameters.real_time:
             bits |= vc.STATE_REAL_TIME
         return bits
 
@@ -281,9 +150,3 @@ class VrepBackend(VrepParameters, VrepModels):
     @property
     def running(self) -> bool:
         return self.control.state == RUNNING
-
-
-def _normalised_depth(spec, depth_m):
-    """Depth along the axis [m] to V-REP's 0..1 between the near and far clipping planes."""
-    normalised = (depth_m.astype(np.float64) - spec.near_m) / (spec.far_m - spec.near_m)
-    return np.clip(normalised, 0.0, 1.0)

@@ -12,7 +12,7 @@ import numpy as np
 
 from epuck_vrep_compat.scene.transforms import compose, vrep_euler_angles
 from epuck_vrep_compat.vrep import constants as vc
-from epuck_vrep_compat.vrep.backend import VrepError
+from epuck_vrep_compat.vrep.errors import VrepError
 
 NO_DATA = ((), (), ())        # (ints, floats, strings) of one object
 

@@ -1,9 +1,9 @@
 """V-REP's calls that add and remove objects while the simulation runs: simLoadModel,
 simCopyPasteObjects, simRemoveModel and simRemoveObject, on our scene.
 
-A mixin of :class:`~epuck_vrep_compat.vrep.backend.VrepBackend`: it reads ``self.sim`` and
-``self.models`` (a :class:`~epuck_vrep_compat.scene.model_files.ModelLibrary`, or None) and
-resolves objects with ``self._object``. What can be added is a whole robot (a model file, or a
+A part of :class:`~epuck_vrep_compat.vrep.backend.VrepBackend`: it reads the simulation and
+``models`` (a :class:`~epuck_vrep_compat.scene.model_files.ModelLibrary`, or None) and resolves
+objects through the objects part. What can be added is a whole robot (a model file, or a
 copy of a robot's base object); what can be removed is a whole robot (through its base object)
 or a static scene object. A new robot is named as V-REP names a pasted model (the scene's
 largest suffix plus one) and placed where it touches nothing. Failures raise
@@ -14,6 +14,15 @@ from epuck_vrep_compat.vrep.errors import VrepError
 
 
 class VrepModels:
+    """Whole robots added (model files, copies) and objects removed while the simulation runs."""
+
+    def __init__(self, objects, models=None):
+        """``objects``: the :class:`~epuck_vrep_compat.vrep.objects.VrepObjects` part;
+        ``models``: the ModelLibrary simLoadModel reads (None: loading always fails)."""
+        self.objects = objects
+        self.sim = objects.sim
+        self.models = models
+
     def read_model(self, file_name: str):
         """The model file simLoadModel would load, read and checked; needs no simulation lock
         (it reads files only), so a caller reads it before taking the lock."""
@@ -50,14 +59,14 @@ class VrepModels:
     def remove_object(self, handle: int):
         """simRemoveObject and simRemoveModel: a robot's base object takes the whole robot with
         it; a static scene object leaves the collision world. Returns the removed handles."""
-        obj = self._object(handle)
+        obj = self.objects.get(handle)
         try:
             return self.sim.remove_object(obj.handle)
         except ValueError as e:
             raise VrepError(str(e)) from None
 
     def _robot_base(self, handle: int, what: str):
-        obj = self._object(handle)
+        obj = self.objects.get(handle)
         if obj.robot is None or obj.part != "root":
             owner = f"a part of robot {obj.robot}" if obj.robot else "a static scene object"
             raise VrepError(f"object {handle} ('{obj.name}') is {owner}, not a robot's base "

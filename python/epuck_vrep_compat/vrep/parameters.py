@@ -1,7 +1,7 @@
 """V-REP's simulation, object and vision parameters that our simulator really has.
 
-A mixin of :class:`~epuck_vrep_compat.vrep.backend.VrepBackend`: it reads ``self.sim``,
-``self.control`` and ``self.real_time`` and resolves objects with ``self._object``. Anything
+A part of :class:`~epuck_vrep_compat.vrep.backend.VrepBackend`: it holds the real-time flag,
+reads the simulation and its control, and resolves objects through the objects part. Anything
 else raises :class:`VrepError` ("not supported"), which the services answer with V-REP's
 failure value.
 """
@@ -13,6 +13,15 @@ from epuck_vrep_compat.vrep.errors import VrepError
 
 
 class VrepParameters:
+    """The simulation, object and vision parameters V-REP's API reads and sets."""
+
+    def __init__(self, objects, control, real_time: bool):
+        """``objects``: the :class:`~epuck_vrep_compat.vrep.objects.VrepObjects` part."""
+        self.objects = objects
+        self.sim = objects.sim
+        self.control = control
+        self.real_time = real_time
+
     def boolean_parameter(self, parameter: int) -> bool:
         if parameter == vc.BOOLPARAM_REALTIME_SIMULATION:
             return self.real_time
@@ -60,7 +69,7 @@ class VrepParameters:
         raise VrepError(f"string parameter {parameter} is not supported by this simulator")
 
     def object_float_parameter(self, handle: int, parameter: int) -> float:
-        obj = self._object(handle)
+        obj = self.objects.get(handle)
         vision = obj.properties.get("vision")
         if vision is not None:
             spec = vision.spec
@@ -74,14 +83,12 @@ class VrepParameters:
         raise VrepError(f"float parameter {parameter} of object {handle} is not supported")
 
     def object_int_parameter(self, handle: int, parameter: int) -> int:
-        obj = self._object(handle)
+        obj = self.objects.get(handle)
         vision = obj.properties.get("vision")
         if vision is not None and parameter in (vc.VISIONINTPARAM_RESOLUTION_X,
                                                 vc.VISIONINTPARAM_RESOLUTION_Y):
             return vision.resolution[parameter - vc.VISIONINTPARAM_RESOLUTION_X]
         raise VrepError(f"int parameter {parameter} of object {handle} is not supported")
-
-
 
 
 def _perspective_angle(spec) -> float:

@@ -5,10 +5,14 @@ import math
 
 import numpy as np
 
-from epuck_vrep_compat.scene.transforms import quat_from_yaw
+from epuck_vrep_compat._core import GROUP_DYNAMIC
+from epuck_vrep_compat.scene import registry as reg
+from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, quat_from_yaw
 
 
 class WalkingOperator:
+    """Where the operator is along its path, as the distance walked grows."""
+
     def __init__(self, spec):
         self.spec = spec
         self.points = np.asarray(spec.waypoints_m, dtype=float)
@@ -57,3 +61,20 @@ class WalkingOperator:
     @property
     def height(self) -> float:
         return self.spec.body_height_m + 2.0 * self.spec.head_radius_m
+
+
+def add_operator(spec, registry, world):
+    """The operator of ``spec`` (an OperatorSpec) into the scene: its body (a cylinder whose
+    pose follows the walk) and head (a sphere on it), in the registry and the collision world.
+    Returns (the WalkingOperator, (body handle, head handle))."""
+    operator = WalkingOperator(spec)
+    base = registry.add(spec.name, reg.SHAPE, reg.WORLD, pose_source=operator.pose,
+                        properties=dict(shape="cylinder", color=spec.color))
+    world.add_cylinder(base.handle, spec.body_radius_m, spec.body_height_m, np.zeros(3),
+                       IDENTITY_QUAT, spec.color, GROUP_DYNAMIC)
+    head = registry.add(spec.name + "_head", reg.SHAPE, base.handle,
+                        (0.0, 0.0, operator.head_centre_z),
+                        properties=dict(shape="sphere", color=spec.color))
+    world.add_sphere(head.handle, spec.head_radius_m, np.zeros(3), IDENTITY_QUAT, spec.color,
+                     GROUP_DYNAMIC)
+    return operator, (base.handle, head.handle)

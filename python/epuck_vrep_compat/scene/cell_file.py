@@ -11,14 +11,15 @@ import os
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
-from epuck_vrep_compat.scene.scene_file import (
-    SceneError, _color, _list, _number, _numbers, _only, _positive)
+from epuck_vrep_compat.scene.validation import (
+    SceneError, as_list, color, number, numbers, only, positive)
 
 SCRIPTS = ("none", "sine", "square")
 
 
 @dataclass
 class ArmSpec:
+    """An articulated robot of the cell: its URDF, base pose and default motion."""
     name: str                                  # base object name = the URDF's root link
     urdf: str                                  # absolute path
     position_m: Tuple[float, float, float]
@@ -32,6 +33,7 @@ class ArmSpec:
 
 @dataclass
 class OperatorSpec:
+    """The walking operator: its path and its body's size and colour."""
     name: str = "Bill"
     waypoints_m: List[Tuple[float, float]] = field(default_factory=list)
     speed_m_s: float = 1.2
@@ -43,6 +45,7 @@ class OperatorSpec:
 
 @dataclass
 class ProxSpec:
+    """A ray proximity sensor mounted on a robot's link."""
     name: str
     parent: str                                # link name
     position_m: Tuple[float, float, float]
@@ -53,6 +56,7 @@ class ProxSpec:
 
 @dataclass
 class LaserSpec:
+    """The planar laser scanner: its pose, scan geometry, noise and rate."""
     name: str
     position_m: Tuple[float, float, float]
     yaw_rad: float = 0.0
@@ -69,6 +73,7 @@ class LaserSpec:
 
 @dataclass
 class CameraSpecEntry:
+    """A ceiling camera: V-REP's pose matrix, image, clipping, render entity and blob streams."""
     name: str
     matrix: Tuple[float, ...]                  # V-REP's 12 values relative to the floor
     resolution: Tuple[int, int] = (128, 128)
@@ -81,6 +86,7 @@ class CameraSpecEntry:
 
 @dataclass
 class KinectSpec:
+    """The Kinect: its pose, resolution, field of view and depth range."""
     name: str = "kinect"
     position_m: Tuple[float, float, float] = (0.0, 0.0, 1.0)
     rpy_rad: Tuple[float, float, float] = (0.0, 0.0, 0.0)   # x forward, z up (like a robot)
@@ -92,6 +98,7 @@ class KinectSpec:
 
 @dataclass
 class CellSpec:
+    """The whole ``cell:`` section of a scene file."""
     arms: List[ArmSpec] = field(default_factory=list)
     operator: Optional[OperatorSpec] = None
     proximity: List[ProxSpec] = field(default_factory=list)
@@ -104,20 +111,20 @@ class CellSpec:
 def parse_cell(d, where: str, base_dir: str) -> CellSpec:
     if not isinstance(d, dict):
         raise SceneError(f"{where} must be a mapping")
-    _only(d, {"robots", "operator", "proximity_sensors", "laser", "cameras", "kinect",
+    only(d, {"robots", "operator", "proximity_sensors", "laser", "cameras", "kinect",
               "substeps"}, where)
     cell = CellSpec()
     cell.arms = [_arm(a, f"{where}.robots[{i}]", base_dir)
-                 for i, a in enumerate(_list(d.get("robots", []), f"{where}.robots"))]
+                 for i, a in enumerate(as_list(d.get("robots", []), f"{where}.robots"))]
     if "operator" in d:
         cell.operator = _operator(d["operator"], f"{where}.operator")
     cell.proximity = [_prox(p, f"{where}.proximity_sensors[{i}]") for i, p in
-                      enumerate(_list(d.get("proximity_sensors", []),
+                      enumerate(as_list(d.get("proximity_sensors", []),
                                       f"{where}.proximity_sensors"))]
     if "laser" in d:
         cell.laser = _laser(d["laser"], f"{where}.laser")
     cell.cameras = [_camera(c, f"{where}.cameras[{i}]")
-                    for i, c in enumerate(_list(d.get("cameras", []), f"{where}.cameras"))]
+                    for i, c in enumerate(as_list(d.get("cameras", []), f"{where}.cameras"))]
     if "kinect" in d:
         cell.kinect = _kinect(d["kinect"], f"{where}.kinect")
     cell.substeps = _count(d.get("substeps", cell.substeps), f"{where}.substeps")
@@ -127,7 +134,7 @@ def parse_cell(d, where: str, base_dir: str) -> CellSpec:
 def _mapping(d, keys, where):
     if not isinstance(d, dict):
         raise SceneError(f"{where} must be a mapping")
-    _only(d, keys, where)
+    only(d, keys, where)
 
 
 def _required(d, key, where):
@@ -159,8 +166,8 @@ def _arm(d, where, base_dir) -> ArmSpec:
     if not os.path.isfile(path):
         raise SceneError(f"{where}.urdf: no such file '{path}'")
     a = ArmSpec(_name(d, where), path,
-                tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m")))
-    a.yaw_rad = _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
+                tuple(numbers(_required(d, "position_m", where), 3, f"{where}.position_m")))
+    a.yaw_rad = number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
     mobile = d.get("mobile", False)
     if not isinstance(mobile, bool):
         raise SceneError(f"{where}.mobile must be true or false, got {mobile!r}")
@@ -168,13 +175,13 @@ def _arm(d, where, base_dir) -> ArmSpec:
     a.script = d.get("script", "square" if mobile else "sine")
     if a.script not in SCRIPTS:
         raise SceneError(f"{where}.script must be one of {list(SCRIPTS)}, got {a.script!r}")
-    a.script_period_s = _positive(d.get("script_period_s", a.script_period_s),
+    a.script_period_s = positive(d.get("script_period_s", a.script_period_s),
                                   f"{where}.script_period_s")
-    a.script_amplitude = _number(d.get("script_amplitude", a.script_amplitude),
+    a.script_amplitude = number(d.get("script_amplitude", a.script_amplitude),
                                  f"{where}.script_amplitude")
     if not 0.0 <= a.script_amplitude <= 1.0:
         raise SceneError(f"{where}.script_amplitude must be in 0..1, got {a.script_amplitude}")
-    a.color = _color(d.get("color", a.color), f"{where}.color")
+    a.color = color(d.get("color", a.color), f"{where}.color")
     return a
 
 
@@ -182,14 +189,14 @@ def _operator(d, where) -> OperatorSpec:
     _mapping(d, {"name", "waypoints_m", "speed_m_s", "body_radius_m", "body_height_m",
                  "head_radius_m", "color"}, where)
     o = OperatorSpec(name=_name(d, where))
-    points = _list(_required(d, "waypoints_m", where), f"{where}.waypoints_m")
-    o.waypoints_m = [tuple(_numbers(p, 2, f"{where}.waypoints_m[{i}]"))
+    points = as_list(_required(d, "waypoints_m", where), f"{where}.waypoints_m")
+    o.waypoints_m = [tuple(numbers(p, 2, f"{where}.waypoints_m[{i}]"))
                      for i, p in enumerate(points)]
     if len(o.waypoints_m) < 2:
         raise SceneError(f"{where}.waypoints_m needs at least 2 points")
     for key in ("speed_m_s", "body_radius_m", "body_height_m", "head_radius_m"):
-        setattr(o, key, _positive(d.get(key, getattr(o, key)), f"{where}.{key}"))
-    o.color = _color(d.get("color", o.color), f"{where}.color")
+        setattr(o, key, positive(d.get(key, getattr(o, key)), f"{where}.{key}"))
+    o.color = color(d.get("color", o.color), f"{where}.color")
     return o
 
 
@@ -197,10 +204,10 @@ def _prox(d, where) -> ProxSpec:
     _mapping(d, {"name", "parent", "position_m", "rpy_rad", "min_range_m", "max_range_m"},
              where)
     p = ProxSpec(_name(d, where), str(_required(d, "parent", where)),
-                 tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m")),
-                 tuple(_numbers(d.get("rpy_rad", [0, 0, 0]), 3, f"{where}.rpy_rad")))
-    p.min_range_m = _positive(d.get("min_range_m", p.min_range_m), f"{where}.min_range_m")
-    p.max_range_m = _positive(d.get("max_range_m", p.max_range_m), f"{where}.max_range_m")
+                 tuple(numbers(_required(d, "position_m", where), 3, f"{where}.position_m")),
+                 tuple(numbers(d.get("rpy_rad", [0, 0, 0]), 3, f"{where}.rpy_rad")))
+    p.min_range_m = positive(d.get("min_range_m", p.min_range_m), f"{where}.min_range_m")
+    p.max_range_m = positive(d.get("max_range_m", p.max_range_m), f"{where}.max_range_m")
     if p.max_range_m <= p.min_range_m:
         raise SceneError(f"{where}: max_range_m must exceed min_range_m")
     return p
@@ -211,17 +218,17 @@ def _laser(d, where) -> LaserSpec:
                  "angle_increment_rad", "range_min_m", "range_max_m", "noise_sigma_m",
                  "noise_relative", "rate_hz"}, where)
     s = LaserSpec(_name(d, where),
-                  tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m")))
-    s.yaw_rad = _number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
+                  tuple(numbers(_required(d, "position_m", where), 3, f"{where}.position_m")))
+    s.yaw_rad = number(d.get("yaw_rad", 0.0), f"{where}.yaw_rad")
     s.topic = str(d.get("topic", s.topic))
     if not s.topic:
         raise SceneError(f"{where}.topic must not be empty")
     s.count = _count(d.get("count", s.count), f"{where}.count")
-    s.angle_min_rad = _number(d.get("angle_min_rad", s.angle_min_rad), f"{where}.angle_min_rad")
+    s.angle_min_rad = number(d.get("angle_min_rad", s.angle_min_rad), f"{where}.angle_min_rad")
     for key in ("angle_increment_rad", "range_min_m", "range_max_m", "rate_hz"):
-        setattr(s, key, _positive(d.get(key, getattr(s, key)), f"{where}.{key}"))
+        setattr(s, key, positive(d.get(key, getattr(s, key)), f"{where}.{key}"))
     for key in ("noise_sigma_m", "noise_relative"):
-        v = _number(d.get(key, getattr(s, key)), f"{where}.{key}")
+        v = number(d.get(key, getattr(s, key)), f"{where}.{key}")
         if v < 0.0:
             raise SceneError(f"{where}.{key} must not be negative, got {v}")
         setattr(s, key, v)
@@ -239,8 +246,8 @@ def _resolution(v, where):
 
 
 def _clipping(obj, d, where):
-    obj.near_m = _positive(d.get("near_m", obj.near_m), f"{where}.near_m")
-    obj.far_m = _positive(d.get("far_m", obj.far_m), f"{where}.far_m")
+    obj.near_m = positive(d.get("near_m", obj.near_m), f"{where}.near_m")
+    obj.far_m = positive(d.get("far_m", obj.far_m), f"{where}.far_m")
     if obj.far_m <= obj.near_m:
         raise SceneError(f"{where}: far_m must exceed near_m")
 
@@ -249,10 +256,10 @@ def _camera(d, where) -> CameraSpecEntry:
     _mapping(d, {"name", "matrix", "resolution", "angle_deg", "near_m", "far_m", "render",
                  "blob_topics"}, where)
     c = CameraSpecEntry(_name(d, where),
-                        tuple(_numbers(_required(d, "matrix", where), 12, f"{where}.matrix")))
+                        tuple(numbers(_required(d, "matrix", where), 12, f"{where}.matrix")))
     c.resolution = _resolution(d.get("resolution", list(c.resolution)), f"{where}.resolution")
     if "angle_deg" in d:
-        angle = _positive(d["angle_deg"], f"{where}.angle_deg")
+        angle = positive(d["angle_deg"], f"{where}.angle_deg")
         if angle >= 180.0:
             raise SceneError(f"{where}.angle_deg must be below 180, got {angle}")
         c.angle_rad = math.radians(angle)
@@ -270,11 +277,11 @@ def _kinect(d, where) -> KinectSpec:
     _mapping(d, {"name", "position_m", "rpy_rad", "resolution", "horizontal_fov_deg", "near_m",
                  "far_m"}, where)
     k = KinectSpec(name=str(d.get("name", "kinect")))
-    k.position_m = tuple(_numbers(_required(d, "position_m", where), 3, f"{where}.position_m"))
-    k.rpy_rad = tuple(_numbers(d.get("rpy_rad", [0, 0, 0]), 3, f"{where}.rpy_rad"))
+    k.position_m = tuple(numbers(_required(d, "position_m", where), 3, f"{where}.position_m"))
+    k.rpy_rad = tuple(numbers(d.get("rpy_rad", [0, 0, 0]), 3, f"{where}.rpy_rad"))
     k.resolution = _resolution(d.get("resolution", list(k.resolution)), f"{where}.resolution")
     if "horizontal_fov_deg" in d:
-        k.horizontal_fov_rad = math.radians(_positive(d["horizontal_fov_deg"],
+        k.horizontal_fov_rad = math.radians(positive(d["horizontal_fov_deg"],
                                                       f"{where}.horizontal_fov_deg"))
     _clipping(k, d, where)
     return k

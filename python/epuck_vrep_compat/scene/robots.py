@@ -13,6 +13,7 @@ from epuck_vrep_compat.paths import data_path
 
 @dataclass(frozen=True)
 class RobotModel:
+    """A cell robot's model: URDF file, base link, joints in contract order."""
     urdf_file: str
     base_link: str
     joints: tuple

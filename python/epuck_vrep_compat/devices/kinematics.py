@@ -20,6 +20,7 @@ _ZERO = np.zeros(3)
 
 @dataclass(frozen=True)
 class JointLimits:
+    """A URDF joint's limits."""
     lower: float       # rad or m; -inf for a continuous joint
     upper: float       # rad or m; +inf for a continuous joint
     velocity: float    # rad/s or m/s; inf when the file gives none
@@ -28,6 +29,7 @@ class JointLimits:
 
 @dataclass(frozen=True)
 class Joint:
+    """A URDF joint: type, links, origin, axis and limits."""
     name: str
     joint_type: str
     parent: str

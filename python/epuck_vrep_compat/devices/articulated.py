@@ -12,69 +12,23 @@ sent to pybullet at the start of the next step: data flows one way per step.
 """
 import math
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
 from typing import Dict, List, Optional
 
 import numpy as np
 import pybullet as pb
 
-from epuck_vrep_compat.cell.kinematics import Joint, load_urdf_chain
+from epuck_vrep_compat.devices.arm_joint import POSITION, VELOCITY, ArmJoint
+from epuck_vrep_compat.devices.kinematics import load_urdf_chain
+from epuck_vrep_compat.devices.link_collisions import Collision, parse_collisions
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
-    IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_rpy, quat_from_yaw,
-    quat_mul, quat_rotate)
-from epuck_vrep_compat.sim.components import ComponentError, wrap_angle
-from epuck_vrep_compat.vrep import constants as vc
+    IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_yaw, quat_mul, quat_rotate)
 
-POSITION = "position"
-VELOCITY = "velocity"
-DEFAULT_EFFORT = 100.0        # N m or N, for a joint whose URDF gives no effort
 # youBot mecanum base: wheel radius and half wheel base + half track (models.md 4.1)
 WHEELS = ("fl", "rl", "rr", "fr")
 WHEEL_RADIUS_M = 0.0475
 WHEEL_LX_PLUS_LY_M = 0.228 + 0.158
 MAX_WHEEL_SPEED_M_S = 0.8       # the youBot datasheet's top speed (models.md 4.1)
-
-
-@dataclass
-class Collision:
-    shape: str                   # box | cylinder | sphere
-    size: tuple                  # box: full extents; cylinder: (radius, length); sphere: (r,)
-    position: np.ndarray
-    quat: np.ndarray
-
-
-def _origin(element):
-    o = element.find("origin")
-    if o is None:
-        return np.zeros(3), IDENTITY_QUAT.copy()
-    xyz = np.array([float(v) for v in o.get("xyz", "0 0 0").split()])
-    rpy = [float(v) for v in o.get("rpy", "0 0 0").split()]
-    return xyz, quat_from_rpy(*rpy)
-
-
-def parse_collisions(path: str) -> Dict[str, List[Collision]]:
-    """Each link's collision primitives (the joints come from :func:`load_urdf_chain`)."""
-    collisions = {}
-    for link in ET.parse(path).getroot().findall("link"):
-        shapes = []
-        for c in link.findall("collision"):
-            geometry = c.find("geometry")
-            position, quat = _origin(c)
-            box, cyl, sph = (geometry.find(k) for k in ("box", "cylinder", "sphere"))
-            if box is not None:
-                shapes.append(Collision("box", tuple(float(v) for v in box.get("size").split()),
-                                        position, quat))
-            elif cyl is not None:
-                shapes.append(Collision("cylinder", (float(cyl.get("radius")),
-                                                     float(cyl.get("length"))), position, quat))
-            elif sph is not None:
-                shapes.append(Collision("sphere", (float(sph.get("radius")),), position, quat))
-            else:
-                raise ValueError(f"{path}: link '{link.get('name')}' has a collision geometry "
-                                 "other than box, cylinder or sphere")
-        collisions[link.get("name")] = shapes
-    return collisions
 
 
 def _z_to_axis(axis):
@@ -87,66 +41,6 @@ def _z_to_axis(axis):
     if c < -1.0 + 1e-12:
         return quat_from_axis_angle((1.0, 0.0, 0.0), math.pi)
     return quat_from_axis_angle(np.cross(z, axis), math.acos(c))
-
-
-class ArmJoint:
-    """A movable joint of an articulated robot (V-REP: motor enabled, position control)."""
-
-    mode = vc.JOINTMODE_FORCE
-
-    def __init__(self, robot, index: int, urdf: Joint):
-        self._robot = robot
-        self.index = index                     # among the robot's movable joints
-        self.name = urdf.name
-        self.cyclic = urdf.joint_type == "continuous"
-        self.prismatic = urdf.joint_type == "prismatic"
-        self.joint_type = vc.JOINT_PRISMATIC if self.prismatic else vc.JOINT_REVOLUTE
-        limits = urdf.limits
-        self.lower, self.upper = limits.lower, limits.upper
-        self.max_velocity = limits.velocity
-        self.range_min = -math.pi if self.cyclic else self.lower
-        self.range_span = -1.0 if self.cyclic else self.upper - self.lower
-        # an explicit effort of 0 marks a passive joint (no motor), e.g. a mecanum roller
-        self.max_force = limits.effort if math.isfinite(limits.effort) else DEFAULT_EFFORT
-
-    def position(self) -> float:
-        q = float(self._robot.q[self.index])
-        return wrap_angle(q) if self.cyclic else q
-
-    def velocity(self) -> float:
-        return float(self._robot.qd[self.index])
-
-    def effort(self) -> float:
-        return float(self._robot.tau[self.index])
-
-    def _finite(self, what, value):
-        if not math.isfinite(value):
-            raise ComponentError(f"{what} {value} is not finite")
-
-    def _clamped(self, value):
-        return value if self.cyclic else min(max(value, self.lower), self.upper)
-
-    def set_target_position(self, value: float):
-        self._finite("target position", value)
-        self._robot.command(self.index, POSITION, self._clamped(value))
-
-    def set_target_velocity(self, value: float) -> float:
-        """Returns the velocity applied: the motor's limit (the URDF's) bounds it."""
-        self._finite("target velocity", value)
-        applied = min(max(value, -self.max_velocity), self.max_velocity)
-        self._robot.command(self.index, VELOCITY, applied)
-        return applied
-
-    def set_position(self, value: float):
-        self._finite("position", value)
-        self._robot.reset_joint(self.index, self._clamped(value))
-
-    def set_force(self, value: float):
-        self._finite("force", value)
-        if value < 0.0:
-            raise ComponentError(f"force {value} is negative")
-        self.max_force = value
-        self._robot.dirty[self.index] = True
 
 
 class ArticulatedRobot:
@@ -358,10 +252,5 @@ class ArticulatedRobot:
         return None
 
 
-def world_poses(link_position, link_quat, rows, offsets_position, offsets_quat):
-    """Vectorised link_world[rows] * offset."""
-    q = link_quat[rows]
-    return link_position[rows] + quat_rotate(q, offsets_position), quat_mul(q, offsets_quat)
-
-
-__all__ = ["ArmJoint", "ArticulatedRobot", "Collision", "parse_collisions", "world_poses"]
+__all__ = ["ArmJoint", "ArticulatedRobot", "Collision", "POSITION", "VELOCITY",
+           "parse_collisions"]

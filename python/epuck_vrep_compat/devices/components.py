@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from epuck_vrep_compat.scene import vrep_codes as vc
 from epuck_vrep_compat.scene.transforms import quat_mul
-from epuck_vrep_compat.vrep import constants as vc
 
 
 class ComponentError(ValueError):
@@ -20,6 +20,7 @@ class ComponentError(ValueError):
 
 @dataclass
 class CameraSpec:
+    """A vision sensor's image size, rate, field of view and clipping planes."""
     # The real e-puck's typical colour acquisition: 40 x 40 sub-sampled at about 4 frames/s.
     width: int = 40
     height: int = 40
@@ -107,7 +108,7 @@ def _core_to_vrep(v):
 
 # A V-REP vision sensor looks along its z axis with y up; the core's camera looks along x with
 # z up. The core camera's orientation is the vision sensor's times this fixed rotation.
-_VISION_TO_CAMERA = np.array([-0.5, -0.5, -0.5, 0.5])    # camera x = vision z, y = x, z = y
+VISION_TO_CAMERA = np.array([-0.5, -0.5, -0.5, 0.5])    # camera x = vision z, y = x, z = y
 
 
 class VisionSensor:
@@ -125,7 +126,7 @@ class VisionSensor:
 
     def camera_pose(self):
         position, quat = self._sim.registry.world_pose(self.handle)
-        return position, quat_mul(quat, _VISION_TO_CAMERA)
+        return position, quat_mul(quat, VISION_TO_CAMERA)
 
     def render(self):
         """(rgb uint8 (H, W, 3) top row first, depth float32 (H, W) metres along the axis)."""

@@ -1,0 +1,40 @@
+"""What a :class:`~epuck_vrep_compat.sim.simulation.Simulation` asks of the things that extend
+it (the industrial cell): a narrow interface, so the simulation never names them.
+
+An extension registers its own objects in ``sim.registry`` and ``sim.world`` and gives them
+behaviour; the simulation calls these hooks, in the order the extensions were added, whenever
+an object may be one of theirs (removal, moves, velocities) and once per step and reset. The
+defaults claim nothing and do nothing.
+"""
+
+
+class SimulationExtension:
+    """Base class of the simulation's extensions; override the hooks an extension needs."""
+
+    def owns(self, obj) -> bool:
+        """Whether the extension moves ``obj`` (a registry object): then :meth:`move_object`
+        and :meth:`object_velocity` answer for it."""
+        return False
+
+    def claims_removal(self, obj) -> bool:
+        """simRemoveObject on ``obj``: True when the extension's object may go (the simulation
+        removes it with its descendants, then calls :meth:`forget`), False when ``obj`` is not
+        the extension's; ValueError for a part that only goes with its whole."""
+        return False
+
+    def forget(self, removed: set) -> None:
+        """After the simulation removed these handles from the registry and the world."""
+
+    def move_object(self, obj, position, quat) -> None:
+        """Teleport an owned object; ValueError (leaving everything as it was) when refused."""
+        raise ValueError(f"'{obj.name}' cannot be placed")
+
+    def object_velocity(self, obj):
+        """(linear (3), angular (3)) world velocity of an owned object."""
+        raise NotImplementedError
+
+    def step(self, dt: float) -> None:
+        """After the e-pucks' step of ``dt`` seconds (the frame counter already advanced)."""
+
+    def reset(self) -> None:
+        """After the simulation's reset (robots at their start poses, noise restarted)."""
