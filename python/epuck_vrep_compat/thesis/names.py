@@ -10,8 +10,9 @@ from dataclasses import dataclass
 from typing import Tuple
 
 from epuck_vrep_compat.cell import robots as models
+from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE
 
-VREP_NODE = "/vrep"
+VREP_NODE = NODE
 
 
 @dataclass(frozen=True)
@@ -72,6 +73,6 @@ KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"       # sensor_msgs/Image 32FC1
 KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
 
 # The operator's blob, published by the cameras' child scripts through the plugin (thesis 5.1).
-BLOB_TOPIC_FORMAT = "/vrep/Blob_Camera_{camera}_{axis}"
+BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
 
 WORLD_FRAME = "world"           # headerGiunto.header.frame_id of absolute poses

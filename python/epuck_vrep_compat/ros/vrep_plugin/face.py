@@ -2,8 +2,8 @@
 
 ``/vrep/info`` goes out once per simulation step (and every ``IDLE_INFO_PERIOD_S`` of wall time
 while paused, stopped or waiting for a synchronous trigger, as on the plugin's GUI passes); the
-``simRos*`` services and the enabled streams are in :mod:`vrep_services` and
-:mod:`vrep_streams`. The simulator node must be named ``vrep`` so that everything lands under
+``simRos*`` services and the enabled streams are in :mod:`services` and
+:mod:`streams`. The simulator node must be named ``vrep`` so that everything lands under
 ``/vrep/`` as clients expect.
 """
 import time
@@ -12,9 +12,9 @@ import rospy
 from std_msgs.msg import Float32, Int32
 from vrep_common.msg import VrepInfo
 
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
-from epuck_vrep_compat.ros.vrep_services import VrepServices
-from epuck_vrep_compat.ros.vrep_streams import VrepStreams
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
+from epuck_vrep_compat.ros.vrep_plugin.services import VrepServices
+from epuck_vrep_compat.ros.vrep_plugin.streams import VrepStreams
 from epuck_vrep_compat.sim.control import STOPPED
 
 IDLE_INFO_PERIOD_S = 0.05

@@ -12,11 +12,13 @@ import rospy
 from std_msgs.msg import ColorRGBA, UInt8MultiArray
 from visualization_msgs.msg import Marker, MarkerArray
 
-from epuck_vrep_compat.ros import commands, names
-from epuck_vrep_compat.ros.log import ThrottledLog
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
+from epuck_vrep_compat.ros.epuck import commands, names
+from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.scene.epuck_model import led_positions
 
-MARKER_TOPIC = "/vrep/markers"
+MARKER_TOPIC = NODE_NAMESPACE + "markers"
 _LED_ON = ColorRGBA(1.0, 0.05, 0.05, 1.0)
 _LED_OFF = ColorRGBA(0.25, 0.1, 0.1, 1.0)
 
@@ -120,19 +122,3 @@ class _Leds:
         self._subscriber.unregister()
         self.publisher.unregister()
 
-
-def shape_marker(frame, ns, marker_id, shape, position, scale, color, quat=(0, 0, 0, 1)):
-    """A frame-locked primitive marker (the pose is relative to ``frame``)."""
-    m = Marker()
-    m.header.frame_id = frame
-    m.ns = ns
-    m.id = marker_id
-    m.type = shape
-    m.action = Marker.ADD
-    m.frame_locked = True
-    m.pose.position.x, m.pose.position.y, m.pose.position.z = (float(v) for v in position)
-    (m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z,
-     m.pose.orientation.w) = (float(v) for v in quat)
-    m.scale.x, m.scale.y, m.scale.z = (float(v) for v in scale)
-    m.color = color
-    return m

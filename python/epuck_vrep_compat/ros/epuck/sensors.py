@@ -2,7 +2,7 @@
 
 Publishing happens once per step from the simulation thread, only for publishers that have a
 subscriber (tracked by a subscribe listener, so idle robots cost nothing). Per-step messages go
-out synchronously (see ``publishing.py``). Callbacks only validate and store commands, by robot
+out synchronously (see ``transport/step_batch.py``). Callbacks only validate and store commands, by robot
 name. :meth:`EpuckFace.sync` follows robots added to and removed from the simulation: a new
 robot's topics are advertised, a removed robot's unadvertised.
 """
@@ -14,9 +14,10 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, Range
 
-from epuck_vrep_compat.ros import commands, driver_scan, names, wire
-from epuck_vrep_compat.ros.log import ThrottledLog
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.epuck import commands, driver_scan, names
+from epuck_vrep_compat.ros.transport import wire
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
 

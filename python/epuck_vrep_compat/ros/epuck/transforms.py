@@ -8,8 +8,8 @@ the scene registry, so the frames and the simulated parts cannot disagree.
 """
 import numpy as np
 
-from epuck_vrep_compat.ros import names
-from epuck_vrep_compat.ros.wire import TransformBatchWire
+from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
 from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 
 _OPTICAL_FROM_VISION = quat_from_axis_angle((0, 0, 1), np.pi)

@@ -5,42 +5,11 @@ top row first, frame ``<robot>/camera_optical``, with a latched ``camera_info`` 
 The image publisher has a queue of 1: a slow viewer drops frames instead of stalling the step.
 :meth:`CameraFace.sync` follows robots added to and removed from the simulation.
 """
-import math
-
-import numpy as np
 import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
-from epuck_vrep_compat.ros import names
-
-
-def fill_image(msg: Image, pixels) -> Image:
-    """Fill ``msg`` with top-row-first pixels: (H, W, 3) as rgb8, (H, W) as mono8."""
-    mono = pixels.ndim == 2
-    msg.height, msg.width = int(pixels.shape[0]), int(pixels.shape[1])
-    msg.encoding = "mono8" if mono else "rgb8"
-    msg.is_bigendian = 0
-    msg.step = msg.width * (1 if mono else 3)
-    msg.data = np.ascontiguousarray(pixels, dtype=np.uint8).tobytes()
-    return msg
-
-
-def pinhole_camera_info(width, height, f, cx, cy, frame_id="") -> CameraInfo:
-    """An undistorted pinhole CameraInfo with square pixels (focal length ``f`` in pixels)."""
-    info = CameraInfo()
-    info.header.frame_id = frame_id
-    info.width, info.height = width, height
-    info.distortion_model = "plumb_bob"
-    info.D = [0.0] * 5
-    info.K = [f, 0.0, cx, 0.0, f, cy, 0.0, 0.0, 1.0]
-    info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
-    info.P = [f, 0.0, cx, 0.0, 0.0, f, cy, 0.0, 0.0, 0.0, 1.0, 0.0]
-    return info
-
-
-def camera_info(width, height, vertical_fov_rad, frame_id) -> CameraInfo:
-    f = 0.5 * height / math.tan(0.5 * vertical_fov_rad)
-    return pinhole_camera_info(width, height, f, 0.5 * width, 0.5 * height, frame_id)
+from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.ros.messages import camera_info, fill_image
 
 
 class CameraFace:

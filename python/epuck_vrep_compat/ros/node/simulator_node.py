@@ -21,16 +21,17 @@ from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.paths import PackageNotFound, data_path
-from epuck_vrep_compat.ros.camera_face import CameraFace
-from epuck_vrep_compat.ros.epuck_face import EpuckFace
-from epuck_vrep_compat.ros.led_face import LedFace
-from epuck_vrep_compat.ros.log import ThrottledLog, serve_get_loggers_safely
-from epuck_vrep_compat.ros.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
-from epuck_vrep_compat.ros.names import PROFILES
-from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
-from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
-from epuck_vrep_compat.ros.tf_face import TfFace
-from epuck_vrep_compat.ros.vrep_face import VrepFace
+from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
+from epuck_vrep_compat.ros.common.names import CLOCK_TOPIC, NODE, NODE_NAME, TF_TOPIC
+from epuck_vrep_compat.ros.epuck.camera import CameraFace
+from epuck_vrep_compat.ros.epuck.leds import LedFace
+from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
+from epuck_vrep_compat.ros.epuck.transforms import TfFace
+from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
+from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
+from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
+from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
@@ -38,7 +39,6 @@ from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
-NODE_NAME = "vrep"
 MAX_STEPS_PER_CALL = 100000
 _LAG_RESET_S = 0.5       # behind schedule by more than this: stop trying to catch up
 _IDLE_SLEEP_S = 0.002    # poll period while paused, stopped or waiting for a trigger
@@ -62,8 +62,8 @@ class SimulatorNode:
         self._batch = StepBatch()
         self.control = SimulationControl(self.sim, PAUSED if params.paused else RUNNING)
         self.control.listeners.append(self._on_state)
-        self._clock = synchronous_publisher("/clock", Clock)
-        self._tf_pub = synchronous_publisher("/tf", TFMessage)
+        self._clock = synchronous_publisher(CLOCK_TOPIC, Clock)
+        self._tf_pub = synchronous_publisher(TF_TOPIC, TFMessage)
         self.leds = LedFace(profile, self.sim)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
@@ -75,7 +75,7 @@ class SimulatorNode:
         self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
         if self.sim.cell is not None:
-            from epuck_vrep_compat.ros.cell_face import CellFace
+            from epuck_vrep_compat.ros.cell.face import CellFace
             self.cell = CellFace(self.sim, self.vrep, self._lock)
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
@@ -221,7 +221,7 @@ def main():
         sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
                          "roscore, or start the simulator with roslaunch\n")
         return 1
-    first_master_pid = master_pid("/" + NODE_NAME)
+    first_master_pid = master_pid(NODE)
     rospy.init_node(NODE_NAME)
     serve_get_loggers_safely()
     # watching from the start: rospy retries a vanished master forever while registering

@@ -7,16 +7,16 @@ rospy: it becomes V-REP's failure answer (-1 result or handle, empty arrays and 
 reason goes to the error log read by ``simRosGetLastErrors`` and to a throttled warning, and the
 node keeps running. Services for things this simulator does not have (dialogs, UIs, consoles,
 scripts, files, ...) answer the same way, so old clients get an answer instead of hanging.
-The handlers live in ``vrep_services_objects``, ``vrep_services_devices`` and
-``vrep_services_sim``; the four stream services call :class:`VrepStreams`.
+The handlers live in ``services_objects``, ``services_devices`` and
+``services_sim``; the four stream services call :class:`VrepStreams`.
 """
 import time
 
 import rospy
 import vrep_common.srv
 
-from epuck_vrep_compat.ros import vrep_services_devices, vrep_services_objects, vrep_services_sim
-from epuck_vrep_compat.ros.vrep_services_objects import Prepared
+from epuck_vrep_compat.ros.vrep_plugin import services_devices, services_objects, services_sim
+from epuck_vrep_compat.ros.vrep_plugin.services_objects import Prepared
 from epuck_vrep_compat.vrep.backend import VrepError
 
 NOT_ADVERTISED = ("simRosAppendStringSignal",)    # defined in vrep_common, never advertised
@@ -92,7 +92,7 @@ class VrepServices:
         self._lock = lock
         self._last_warning = {}
         handlers = {}
-        for module in (vrep_services_objects, vrep_services_devices, vrep_services_sim):
+        for module in (services_objects, services_devices, services_sim):
             handlers.update(module.HANDLERS)
         handlers.update(self._stream_handlers(streams))
         self._services = []

@@ -11,8 +11,8 @@
   and act on the simulation from rospy's threads, under the simulation lock.
 Callers of the enable/disable methods and of :meth:`VrepStreams.publish` hold the lock. No
 method raises: failures return V-REP's failure value and are recorded for simRosGetLastErrors.
-What each command does is in :mod:`vrep_stream_publishers`, :mod:`vrep_stream_sensors` and
-:mod:`vrep_stream_subscribers`; the naming rules in :mod:`vrep_stream_names`.
+What each command does is in :mod:`stream_publishers`, :mod:`stream_sensors` and
+:mod:`stream_subscribers`; the naming rules in :mod:`stream_names`.
 """
 from dataclasses import dataclass
 from typing import Optional
@@ -25,19 +25,19 @@ from vrep_common.srv import (
     simRosDisablePublisherResponse, simRosDisableSubscriberResponse,
     simRosEnablePublisherResponse, simRosEnableSubscriberResponse)
 
-from epuck_vrep_compat.ros.log import ThrottledLog
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
-from epuck_vrep_compat.ros.vrep_stream_names import (
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import TF_TOPIC
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
+from epuck_vrep_compat.ros.vrep_plugin.stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
-from epuck_vrep_compat.ros.vrep_stream_publishers import (
+from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import (
     GENERAL_PUBLISHERS, PublisherKind, StreamStep)
-from epuck_vrep_compat.ros.vrep_stream_sensors import SENSOR_PUBLISHERS
-from epuck_vrep_compat.ros.vrep_stream_subscribers import (
+from epuck_vrep_compat.ros.vrep_plugin.stream_sensors import SENSOR_PUBLISHERS
+from epuck_vrep_compat.ros.vrep_plugin.stream_subscribers import (
     InvalidMessage, SubscriberKind, subscriber_kinds)
 from epuck_vrep_compat.vrep.backend import VrepError
 
 PUBLISHER_KINDS = {**GENERAL_PUBLISHERS, **SENSOR_PUBLISHERS}
-TF_TOPIC = "/tf"
 ENABLE_PUBLISHER, ENABLE_SUBSCRIBER = "simRosEnablePublisher", "simRosEnableSubscriber"
 WARN_PERIOD_S = 5.0
 

@@ -33,16 +33,16 @@ from visualization_msgs.msg import Marker, MarkerArray
 from vrep_common.srv import simRosEnablePublisherRequest
 
 from epuck_vrep_compat.cell.articulated import POSITION, VELOCITY
-from epuck_vrep_compat.ros import names
-from epuck_vrep_compat.ros.led_face import shape_marker
-from epuck_vrep_compat.ros.log import ThrottledLog
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
-from epuck_vrep_compat.ros.wire import TransformBatchWire
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE, ODOM_FRAME
+from epuck_vrep_compat.ros.messages import shape_marker
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
+from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
 from epuck_vrep_compat.sim.control import STOPPED
 from epuck_vrep_compat.vrep import constants as vc
 
 WORLD_FRAME = "world"
-CELL_MARKER_TOPIC = "/vrep/cell_markers"
+CELL_MARKER_TOPIC = NODE_NAMESPACE + "cell_markers"
 _DEVICE_COLOR = ColorRGBA(0.15, 0.15, 0.15, 1.0)
 
 
@@ -112,7 +112,7 @@ class CellFace:
         self._static_tf = tf2_ros.StaticTransformBroadcaster()
         odom = TransformStamped()
         odom.header.frame_id = WORLD_FRAME
-        odom.child_frame_id = names.ODOM_FRAME
+        odom.child_frame_id = ODOM_FRAME
         odom.transform.rotation.w = 1.0
         self._static_tf.sendTransform(odom)
         self._markers = rospy.Publisher(CELL_MARKER_TOPIC, MarkerArray, queue_size=1,

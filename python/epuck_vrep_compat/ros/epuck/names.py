@@ -8,7 +8,7 @@ Profile ``epuck_driver`` reproduces the real robot's driver (gctronic/epuck_driv
 from dataclasses import dataclass
 from typing import Dict, Tuple
 
-ODOM_FRAME = "odom"
+from epuck_vrep_compat.ros.common.names import ODOM_FRAME  # noqa: F401 (a profile name too)
 PROXIMITY_COUNT = 8
 
 

@@ -1,6 +1,6 @@
 """What each publisher stream command of the legacy plugin publishes (V-REP 3.3.0's
 ``ROS_server::launchPublisher`` and ``streamAllData``), except the sensor streams, which are in
-:mod:`vrep_stream_sensors`.
+:mod:`stream_sensors`.
 
 A :class:`PublisherKind` says how one command behaves:
 * ``check(backend, aux)`` runs when the stream is enabled, where the plugin validated the target;
@@ -23,9 +23,9 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, Int32, Int32MultiArray, String, UInt8
 from vrep_common.msg import ObjectGroupData
 
-from epuck_vrep_compat.ros.vrep_services_devices import fill_joint_state
-from epuck_vrep_compat.ros.vrep_services_objects import frame_seq
-from epuck_vrep_compat.ros.wire import WireMessage
+from epuck_vrep_compat.ros.transport.wire import WireMessage
+from epuck_vrep_compat.ros.vrep_plugin.services_devices import fill_joint_state
+from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
