@@ -35,6 +35,7 @@ from vrep_common.srv import simRosEnablePublisherRequest
 from epuck_vrep_compat.cell.articulated import POSITION, VELOCITY
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE, ODOM_FRAME
+from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
@@ -46,7 +47,10 @@ CELL_MARKER_TOPIC = NODE_NAMESPACE + "cell_markers"
 _DEVICE_COLOR = ColorRGBA(0.15, 0.15, 0.15, 1.0)
 
 
-class CellFace:
+class CellFace(Face):
+    """The industrial cell: joint states and commands, the laser scan, the cell's TF, the blob
+    signal streams, robot descriptions and markers for rviz."""
+
     def __init__(self, sim, vrep_face, lock):
         self.sim = sim
         self.cell = sim.cell
@@ -244,7 +248,7 @@ class CellFace:
                 self._streams.enable_publisher(req)
         self._blob_enabled = True
 
-    def before_streams(self):
+    def _signals(self):
         """After the step, before ``/vrep``'s streams publish: the scripts' signals."""
         if not self._blob_enabled and self._backend.running:
             self._enable_blob_streams()
@@ -260,10 +264,13 @@ class CellFace:
                 self._backend.clear_signal("float", x_topic)
                 self._backend.clear_signal("float", y_topic)
 
-    def publish(self, batch, tf_pub, secs, nsecs):
-        stamp = rospy.Time(secs, nsecs)
-        if batch.wanted(tf_pub):
-            batch.add(tf_pub, self.tf_message(secs, nsecs))
+    def publish(self, step: Step):
+        """The blob signals (before ``/vrep``'s streams publish them), TF, the laser scan when
+        one was taken, the joint states."""
+        self._signals()
+        batch, stamp = step.batch, step.stamp
+        if batch.wanted(step.tf):
+            batch.add(step.tf, self.tf_message(step.secs, step.nsecs))
         if self._scan is not None and self.cell.scan_due:
             self.cell.scan_due = False
             if batch.wanted(self._scan):

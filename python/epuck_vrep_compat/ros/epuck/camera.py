@@ -9,10 +9,14 @@ import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
 from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info, fill_image
 
 
-class CameraFace:
+class CameraFace(Face):
+    """Each robot's ``camera`` image (at the camera's rate, while someone subscribes) and its
+    latched ``camera_info``."""
+
     def __init__(self, profile, sim):
         self.profile = profile
         self.sim = sim
@@ -30,13 +34,14 @@ class CameraFace:
             if name not in self._cameras:
                 self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot)
 
-    def publish(self, secs: int, nsecs: int):
+    def publish(self, step: Step):
+        """Render and publish each camera that is due and has a subscriber."""
         now = self.sim.time_s
         for camera in self._cameras.values():
             if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
                 continue
             camera.next_due_s = now + self._period_s
-            camera.image.publish(camera.render(secs, nsecs))
+            camera.image.publish(camera.render(step.secs, step.nsecs))
 
 
 class _Camera:

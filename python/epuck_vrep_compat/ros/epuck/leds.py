@@ -15,6 +15,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
 from epuck_vrep_compat.ros.epuck import commands, names
+from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.scene.epuck_model import led_positions
 
@@ -23,7 +24,9 @@ _LED_ON = ColorRGBA(1.0, 0.05, 0.05, 1.0)
 _LED_OFF = ColorRGBA(0.25, 0.1, 0.1, 1.0)
 
 
-class LedFace:
+class LedFace(Face):
+    """Each robot's ``cmd_led`` and latched ``led_state``, and the scene's rviz markers."""
+
     def __init__(self, profile, sim):
         self.profile = profile
         self.sim = sim
@@ -58,8 +61,8 @@ class LedFace:
             leds.dirty = True
             self._markers_dirty = True
 
-    def publish(self):
-        """Called from the simulation thread after a step: re-send what changed."""
+    def publish(self, step: Step):
+        """After a step: re-send what changed."""
         with self._lock:
             changed = [(leds, leds.state.copy()) for leds in self._robots.values() if leds.dirty]
             for leds, _ in changed:
@@ -70,6 +73,10 @@ class LedFace:
             leds.publisher.publish(UInt8MultiArray(data=bytes(values)))
         if markers_dirty:
             self._markers.publish(self._marker_array(state))
+
+    def publish_idle(self, step: Step):
+        """While not stepping too: LED commands still change the latched states."""
+        self.publish(step)
 
     def _marker_array(self, state):
         """``state``: robot name -> its 10 LED values."""

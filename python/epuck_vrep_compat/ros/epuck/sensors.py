@@ -16,6 +16,7 @@ from sensor_msgs.msg import Imu, LaserScan, Range
 
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.epuck import commands, driver_scan, names
+from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
@@ -82,7 +83,10 @@ class _Robot:
             pub.unregister()
 
 
-class EpuckFace:
+class EpuckFace(Face):
+    """The per-robot sensor topics (ranges, IMU, odometry, ground truth, the driver's scan) and
+    each robot's ``cmd_vel``."""
+
     def __init__(self, profile, sim, cmd_vel_scaling, accel_sign, publish_ground_truth):
         self.profile = profile
         self.sim = sim
@@ -160,8 +164,9 @@ class EpuckFace:
                            msg.angular.z)
 
     # --- per step ------------------------------------------------------------------------
-    def publish(self, batch, secs: int, nsecs: int):
+    def publish(self, step: Step):
         """Queue this step's sensor messages of every robot someone listens to."""
+        batch, secs, nsecs = step.batch, step.secs, step.nsecs
         with self.connections_lock:
             active = np.flatnonzero(self.connections)
         if active.size == 0:

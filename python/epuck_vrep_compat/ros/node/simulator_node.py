@@ -5,9 +5,12 @@ V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled 
 Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused),
 ``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
 
-Robots loaded, pasted or removed through ``/vrep`` change the simulation under the node's lock,
-between steps; the simulation then calls :meth:`SimulatorNode._on_robots_changed`, and every
-face follows before the next step.
+Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
+one list, in publication order, and after each step calls ``publish(step)`` on each (on idle
+passes ``publish_idle(step)``). Robots loaded, pasted or removed through ``/vrep`` change the
+simulation under the node's lock, between steps; the simulation then calls
+:meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
+step.
 """
 import sys
 import threading
@@ -28,6 +31,7 @@ from epuck_vrep_compat.ros.epuck.leds import LedFace
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
+from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
@@ -45,6 +49,8 @@ _IDLE_SLEEP_S = 0.002    # poll period while paused, stopped or waiting for a tr
 
 
 class SimulatorNode:
+    """The simulator node: one simulation, stepped at the requested rate, and its faces."""
+
     def __init__(self, params: SimParams, models_dir: str = None):
         """``models_dir``: the folder of the model files simRosLoadModel finds by name."""
         self.params = params
@@ -77,11 +83,14 @@ class SimulatorNode:
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
             self.cell = CellFace(self.sim, self.vrep, self._lock)
+        # publication order: the cell enables and fills the blob signals /vrep's streams read
+        self.faces = [f for f in (self.tf, self.epucks, self.cell, self.vrep, self.cameras,
+                                  self.leds) if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
         rospy.Service("~unpause", Empty, self._on_unpause)
         rospy.Service("~reset", Empty, self._on_reset)
-        self.leds.publish()
+        self.leds.publish(self._step_info())
 
     # --- services ------------------------------------------------------------------------
     def _on_step(self, req):
@@ -130,18 +139,18 @@ class SimulatorNode:
         """Robots or objects came or went (a /vrep service, under the lock): every face
         follows now, so the next step publishes for exactly the robots there are."""
         with self._lock:
-            for face in (self.epucks, self.tf, self.cameras, self.leds, self.cell):
-                if face is not None:
-                    face.sync()
+            for face in self.faces:
+                face.sync()
         robots = list(self.sim.robot_names)
         if self.sim.cell is not None:
             robots += [arm.spec.name for arm in self.sim.cell.arms]
         rospy.loginfo("scene changed: %d robot(s): %s", len(robots), ", ".join(robots) or "none")
 
     # --- the loop ------------------------------------------------------------------------
-    def _stamp(self):
+    def _step_info(self) -> Step:
+        """What the faces publish a step with: the simulation time, the batch, ``/tf``."""
         stamp = rospy.Time.from_sec(self.sim.time_s)
-        return stamp, stamp.secs, stamp.nsecs
+        return Step(stamp.secs, stamp.nsecs, self._batch, self._tf_pub)
 
     def _step_and_publish(self) -> bool:
         """One step and its messages; False when the step failed (see :meth:`_step_failed`)."""
@@ -150,20 +159,10 @@ class SimulatorNode:
         except Exception:  # noqa: BLE001 - the simulation must outlive it, and says so
             self._step_failed(traceback.format_exc())
             return False
-        stamp, secs, nsecs = self._stamp()
-        batch = self._batch
-        batch.add(self._clock, Clock(clock=stamp))
-        if batch.wanted(self._tf_pub):
-            transforms = self.tf.message(secs, nsecs)
-            if transforms is not None:
-                batch.add(self._tf_pub, transforms)
-        self.epucks.publish(batch, secs, nsecs)
-        if self.cell is not None:
-            self.cell.before_streams()
-            self.cell.publish(batch, self._tf_pub, secs, nsecs)
-        self.vrep.publish(batch, secs, nsecs)
-        self.cameras.publish(secs, nsecs)
-        self.leds.publish()
+        step = self._step_info()
+        self._batch.add(self._clock, Clock(clock=step.stamp))
+        for face in self.faces:
+            face.publish(step)
         return True
 
     def _step_failed(self, trace: str):
@@ -196,8 +195,9 @@ class SimulatorNode:
         while not rospy.is_shutdown():
             if not self.control.may_step():
                 with self._lock:
-                    self.vrep.publish_idle(batch, self._stamp()[0])
-                    self.leds.publish()
+                    step = self._step_info()
+                    for face in self.faces:
+                        face.publish_idle(step)
                     batch.flush()
                 time.sleep(_IDLE_SLEEP_S)
                 deadline = time.monotonic()
