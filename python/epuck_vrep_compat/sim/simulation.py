@@ -26,6 +26,7 @@ from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
 from epuck_vrep_compat.sim.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.sim.leds import RobotLeds
 from epuck_vrep_compat.sim.noise import NoiseSettings
 
 
@@ -62,6 +63,7 @@ class Simulation:
         self._index_by_name = {}
         self._commands_lock = threading.Lock()
         self.command = RobotCommand(np.zeros((0, 2)), np.zeros(0))
+        self.leds = RobotLeds()          # set by cmd_led, read by the LED face
         self.listeners: List[Callable[[], None]] = []
         starts = place_robots(scene, len(robot_names), self.model.body_radius_m)
         for number, (name, pose) in enumerate(zip(robot_names, starts)):
@@ -101,6 +103,7 @@ class Simulation:
             self._index_by_name = {n: i for i, n in enumerate(self.robot_names)}
             self.command = RobotCommand(np.delete(self.command.wheel_rad_s, index, axis=0),
                                         np.delete(self.command.stamp_s, index))
+        self.leds.remove(name)
         self.swarm.remove_robot(index)
         removed = self.registry.remove(parts.root.handle)
         self._changed()
@@ -154,6 +157,7 @@ class Simulation:
             self._index_by_name[name] = index
             self.command = RobotCommand(np.vstack((self.command.wheel_rad_s, np.zeros((1, 2)))),
                                         np.append(self.command.stamp_s, -np.inf))
+        self.leds.add(name)
         return parts
 
     def _attach_components(self, name, parts):
