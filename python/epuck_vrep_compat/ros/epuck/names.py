@@ -97,4 +97,3 @@ LASER_FRAME = "base_laser"            # epuck_driver profile only
 # Driver's laser-scan emulation (epuck_driver_cpp): 19 beams from -90 to +90 degrees.
 SCAN_BEAMS = 19
 ROBOT_RADIUS_M = 0.035
-LED_COUNT = 10                         # 8 ring + body + front (driver's LED_NUMBER)
