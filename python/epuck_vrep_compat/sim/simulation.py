@@ -64,6 +64,8 @@ class Simulation:
         self._commands_lock = threading.Lock()
         self.command = RobotCommand(np.zeros((0, 2)), np.zeros(0))
         self.leds = RobotLeds()          # set by cmd_led, read by the LED face
+        # V-REP's signals: named values that scripts (the cell's) and clients share, by kind
+        self.signals = {"int": {}, "float": {}, "string": {}}
         self.listeners: List[Callable[[], None]] = []
         starts = place_robots(scene, len(robot_names), self.model.body_radius_m)
         for number, (name, pose) in enumerate(zip(robot_names, starts)):

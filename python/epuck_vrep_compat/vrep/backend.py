@@ -45,7 +45,7 @@ class VrepBackend(VrepParameters, VrepModels):
         self.real_time = real_time
         self.models = models
         self.errors = ErrorLog()
-        self.signals = {"int": {}, "float": {}, "string": {}}
+        self.signals = sim.signals          # the simulation's: the cell's scripts write some
         self._selection = []
 
     # --- objects ------------------------------------------------------------------------
