@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from typing import Tuple
 
 from epuck_vrep_compat.cell import robots as models
-from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE
+# WORLD_FRAME: headerGiunto.header.frame_id of absolute poses
+from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE, WORLD_FRAME  # noqa: F401
 
 VREP_NODE = NODE
 
@@ -75,4 +76,3 @@ KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
 # The operator's blob, published by the cameras' child scripts through the plugin (thesis 5.1).
 BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
 
-WORLD_FRAME = "world"           # headerGiunto.header.frame_id of absolute poses

@@ -6,6 +6,7 @@ clients expect.
 NODE_NAME = "vrep"
 NODE = "/" + NODE_NAME                  # the simulator node's resolved name
 NODE_NAMESPACE = NODE + "/"             # its private namespace: services, streams, markers
+WORLD_FRAME = "world"                   # V-REP's absolute frame (the cell's TF root)
 ODOM_FRAME = "odom"                     # the fixed frame of the e-pucks (and the cell's odom)
 TF_TOPIC = "/tf"
 CLOCK_TOPIC = "/clock"

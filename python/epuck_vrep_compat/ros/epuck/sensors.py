@@ -2,9 +2,9 @@
 
 Publishing happens once per step from the simulation thread, only for publishers that have a
 subscriber (tracked by a subscribe listener, so idle robots cost nothing). Per-step messages go
-out synchronously (see ``transport/step_batch.py``). Callbacks only validate and store commands, by robot
-name. :meth:`EpuckFace.sync` follows robots added to and removed from the simulation: a new
-robot's topics are advertised, a removed robot's unadvertised.
+out synchronously (see ``transport/step_batch.py``). Callbacks only validate and store
+commands, by robot name. :meth:`EpuckFace.sync` follows robots added to and removed from the
+simulation: a new robot's topics are advertised, a removed robot's unadvertised.
 """
 import threading
 

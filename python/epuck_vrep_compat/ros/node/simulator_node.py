@@ -82,7 +82,7 @@ class SimulatorNode:
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
-            self.cell = CellFace(self.sim, self.vrep, self._lock)
+            self.cell = CellFace(self.sim, self.vrep.streams, self._lock)
         # publication order: the cell enables and fills the blob signals /vrep's streams read
         self.faces = [f for f in (self.tf, self.epucks, self.cell, self.vrep, self.cameras,
                                   self.leds) if f is not None]

@@ -2,12 +2,12 @@
 advertises (96: all of ``vrep_common``'s srv files but ``simRosAppendStringSignal``).
 
 Each call runs under the simulation lock (the core is not thread-safe); only work that touches
-no simulation state (reading a model file) runs before it, so no request holds the lock long. A failure never reaches
-rospy: it becomes V-REP's failure answer (-1 result or handle, empty arrays and strings), its
-reason goes to the error log read by ``simRosGetLastErrors`` and to a throttled warning, and the
-node keeps running. Services for things this simulator does not have (dialogs, UIs, consoles,
-scripts, files, ...) answer the same way, so old clients get an answer instead of hanging.
-The handlers live in ``services_objects``, ``services_devices`` and
+no simulation state (reading a model file) runs before it, so no request holds the lock long.
+A failure never reaches rospy: it becomes V-REP's failure answer (-1 result or handle, empty
+arrays and strings), its reason goes to the error log read by ``simRosGetLastErrors`` and to a
+throttled warning, and the node keeps running. Services for things this simulator does not have
+(dialogs, UIs, consoles, scripts, files, ...) answer the same way, so old clients get an answer
+instead of hanging. The handlers live in ``services_objects``, ``services_devices`` and
 ``services_sim``; the four stream services call :class:`VrepStreams`.
 """
 import time
