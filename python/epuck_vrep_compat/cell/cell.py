@@ -72,7 +72,6 @@ class Cell:
         self._build_laser(registry, world)
         self._build_cameras(registry)
         self._build_kinect(registry, world)
-        self.scan_due = False
         self.scan_count = 0                 # laser scans taken so far (a reader compares)
         self.blobs: Dict[str, np.ndarray] = {}
         self._sync_world()
@@ -303,7 +302,6 @@ class Cell:
             position, quat = self.sim.registry.world_pose(self.laser_handle)
             self.laser_ranges = self.scanner.scan(self.sim.world, position, quat,
                                                   self.laser_handle, GROUP_ALL)
-            self.scan_due = True
             self.scan_count += 1
         for camera, c in zip(self.cameras, self.camera_specs):
             if c.blob_topics:
@@ -376,7 +374,7 @@ class Cell:
         if self.operator is not None and self.operator_handles[0] in removed:
             self.operator, self.operator_handles = None, ()
         if self.laser is not None and self.laser_handle in removed:
-            self.laser, self.laser_ranges, self.scan_due = None, None, False
+            self.laser, self.laser_ranges = None, None
         kept = [(v, c) for v, c in zip(self.cameras, self.camera_specs) if v.handle not in removed]
         blob_topics = {t for c in self.camera_specs for t in c.blob_topics}
         self.cameras = [v for v, _ in kept]
