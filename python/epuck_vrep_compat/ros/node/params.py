@@ -18,6 +18,8 @@ from epuck_vrep_compat.sim.noise import (
 
 @dataclass
 class SimParams:
+    """The simulator node's private parameters, as :func:`read_params` read them."""
+
     world: str = ""
     n: int = 1
     profile: str = "vrep"

@@ -10,17 +10,16 @@ throttled warning, and the node keeps running. Services for things this simulato
 instead of hanging. The handlers live in ``services_objects``, ``services_devices`` and
 ``services_sim``; the four stream services call :class:`VrepStreams`.
 """
-import time
-
 import rospy
 import vrep_common.srv
 
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
 from epuck_vrep_compat.ros.vrep_plugin import services_devices, services_objects, services_sim
 from epuck_vrep_compat.ros.vrep_plugin.services_objects import Prepared
 from epuck_vrep_compat.vrep.backend import VrepError
 
 NOT_ADVERTISED = ("simRosAppendStringSignal",)    # defined in vrep_common, never advertised
-WARN_PERIOD_S = 5.0                               # per service
 
 # Services for features this simulator does not have: "(no <what>)" in the error.
 UNSUPPORTED = {
@@ -87,10 +86,13 @@ def _refuse(reason):
 
 
 class VrepServices:
+    """The plugin's ``/vrep/simRos*`` services, each answering as V-REP did (see the module's
+    docstring); ``streams``: the :class:`VrepStreams` the four stream services act on."""
+
     def __init__(self, backend, lock, streams):
         self.backend = backend
         self._lock = lock
-        self._last_warning = {}
+        self._log = ThrottledLog()              # one line per service and period
         handlers = {}
         for module in (services_objects, services_devices, services_sim):
             handlers.update(module.HANDLERS)
@@ -119,7 +121,7 @@ class VrepServices:
     def _wrap(self, name, handler, response_class):
         def serve(req):
             errors = []
-            log = rospy.logwarn
+            log = self._log.warn
             try:
                 if isinstance(handler, Prepared):      # the slow half outside the lock
                     prepared = handler.prepare(self.backend, req)
@@ -133,21 +135,15 @@ class VrepServices:
                 response = failure_response(response_class)
             except Exception as e:      # a bug must not take the node (or the client) down
                 errors.append(f"internal error: {type(e).__name__}: {e}")
-                log = rospy.logerr
+                log = self._log.error
                 response = failure_response(response_class)
             self._report(name, errors, log)
             return response
         return serve
 
     def _report(self, name, errors, log):
-        """Every reason into the error log; one line per service and WARN_PERIOD_S."""
+        """Every reason into the error log; the last one logged, throttled per service."""
         for reason in errors:
             self.backend.errors.add(reason if reason.startswith(name) else f"{name}: {reason}")
-        now = time.monotonic()
-        if errors and now - self._last_warning.get(name, -WARN_PERIOD_S) >= WARN_PERIOD_S:
-            self._last_warning[name] = now
-            log("/vrep/%s: %s", name, errors[-1])
-
-    def shutdown(self):
-        for service in self._services:
-            service.shutdown()
+        if errors:
+            log(name, NODE_NAMESPACE + "%s: %s", name, errors[-1])

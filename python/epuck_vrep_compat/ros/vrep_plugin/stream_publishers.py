@@ -33,6 +33,8 @@ from epuck_vrep_compat.vrep.group_data import group_data
 
 @dataclass(frozen=True)
 class PublisherKind:
+    """How one publisher stream command behaves (see the module's docstring)."""
+
     name: str
     msg_class: Optional[type]
     build: Callable

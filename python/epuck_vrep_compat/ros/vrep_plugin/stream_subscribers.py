@@ -35,6 +35,8 @@ class InvalidMessage(ValueError):
 
 @dataclass(frozen=True)
 class SubscriberKind:
+    """How one subscriber stream command behaves (see the module's docstring)."""
+
     name: str
     msg_class: type
     apply: Callable
