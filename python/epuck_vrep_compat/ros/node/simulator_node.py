@@ -83,7 +83,7 @@ class SimulatorNode:
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
             self.cell = CellFace(self.sim, self.vrep.streams, self._lock)
-        # publication order: the cell enables and fills the blob signals /vrep's streams read
+        # publication order: the cell enables the blob streams before /vrep publishes streams
         self.faces = [f for f in (self.tf, self.epucks, self.cell, self.vrep, self.cameras,
                                   self.leds) if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
