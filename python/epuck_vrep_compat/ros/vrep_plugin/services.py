@@ -14,7 +14,7 @@ import rospy
 import vrep_common.srv
 
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
+from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE
 from epuck_vrep_compat.ros.vrep_plugin import services_devices, services_objects, services_sim
 from epuck_vrep_compat.ros.vrep_plugin.services_objects import Prepared
 from epuck_vrep_compat.vrep.backend import VrepError
@@ -107,7 +107,7 @@ class VrepServices:
             self._services.append(rospy.Service(
                 "~" + name, service_class, self._wrap(name, handler,
                                                       service_class._response_class)))
-        rospy.loginfo("/vrep: %d simRos* services advertised", len(self._services))
+        rospy.loginfo("%s: %d simRos* services advertised", NODE, len(self._services))
 
     @staticmethod
     def _stream_handlers(streams):

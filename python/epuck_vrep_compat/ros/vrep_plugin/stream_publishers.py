@@ -23,6 +23,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, Int32, Int32MultiArray, String, UInt8
 from vrep_common.msg import ObjectGroupData
 
+from epuck_vrep_compat.ros.common.names import WORLD_FRAME
 from epuck_vrep_compat.ros.transport.wire import WireMessage
 from epuck_vrep_compat.ros.vrep_plugin.services_devices import fill_joint_state
 from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq
@@ -120,7 +121,7 @@ def _transform(step, aux):
     backend = step.backend
     position, quat = backend.pose(aux.int1, aux.int2)
     parent = backend.parent(aux.int1) if aux.int2 == vc.HANDLE_PARENT else aux.int2
-    parent_name = "world" if parent == vc.WORLD else backend.object_name(parent)
+    parent_name = WORLD_FRAME if parent == vc.WORLD else backend.object_name(parent)
     child_frame, parent_frame = step.frames.transform_frames(
         backend.object_name(aux.int1), parent_name, aux.string)
     msg = TransformStamped()

@@ -19,6 +19,7 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan, PointCloud2, PointFiel
 from std_msgs.msg import Int32
 from vrep_common.msg import ProximitySensorData, VisionSensorData, VisionSensorDepthBuff
 
+from epuck_vrep_compat.ros.common.names import WORLD_FRAME
 from epuck_vrep_compat.ros.messages import fill_image, pinhole_camera_info
 from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import (
     PublisherKind, set_header, packed_floats, string_signal)
@@ -160,7 +161,7 @@ def _odometry(step, aux):
     backend = step.backend
     child_frame = step.object_frame(aux.int1)
     reference = backend.parent(aux.int1) if aux.int2 == vc.HANDLE_PARENT else aux.int2
-    reference_name = "world"
+    reference_name = WORLD_FRAME
     if reference != vc.WORLD:
         try:
             reference_name = backend.object_name(reference)
