@@ -1,5 +1,7 @@
 """simRemoveObject/simRemoveModel on the cell's objects (no master): what goes, what stays
-indexed right, and what is refused without changing anything."""
+indexed right, and what is refused without changing anything. Also the cell's model-side
+outputs the ROS faces read: the blob float signals the cell writes after each step (as the
+thesis's child script), cleared when their camera goes, and the count of laser scans taken."""
 import os
 
 import numpy as np
@@ -90,3 +92,32 @@ def test_a_static_object_of_the_scene_is_removed_as_before(backend):
     assert backend.remove_object(handle) == [handle]
     assert not sim.world.has(handle)
     step(sim)
+
+
+def test_blob_signals_follow_each_step_and_go_with_their_camera(backend):
+    sim = backend.sim
+    assert sim.signals["float"] == {}              # written by steps only
+    for _ in range(3):
+        sim.step()
+        for camera in sim.cell.camera_specs:
+            packet = sim.cell.blobs[camera.name]
+            x_topic, y_topic = camera.blob_topics
+            if packet[0] >= 1:
+                assert backend.signal("float", x_topic) == float(packet[4])
+                assert backend.signal("float", y_topic) == float(packet[5])
+            else:
+                assert x_topic not in sim.signals["float"]
+                assert y_topic not in sim.signals["float"]
+    assert "Blob_Camera_0_X" in sim.signals["float"]      # camera0 sees the operator at start
+    backend.remove_object(sim.registry.handle_of("camera0"))
+    with pytest.raises(VrepError):
+        backend.signal("float", "Blob_Camera_0_X")
+
+
+def test_scan_count_counts_the_scans_taken(backend):
+    cell = backend.sim.cell
+    every = cell._scan_every
+    before = cell.scan_count
+    for _ in range(4 * every):
+        backend.sim.step()
+    assert cell.scan_count == before + 4

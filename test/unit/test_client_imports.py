@@ -12,7 +12,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 SCRIPTS = os.path.join(REPO, "scripts")
 SIMULATOR = {"epuck_sim"}
 HEAVY = ("epuck_vrep_compat._core", "pybullet", "epuck_vrep_compat.sim",
-         "epuck_vrep_compat.cell.cell", "epuck_vrep_compat.ros.simulator_node")
+         "epuck_vrep_compat.cell.cell", "epuck_vrep_compat.ros.node.simulator_node")
 
 
 def script_module(name):

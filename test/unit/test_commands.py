@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from epuck_vrep_compat.ros.commands import apply_led_command, wheel_speeds
+from epuck_vrep_compat.ros.epuck.commands import apply_led_command, wheel_speeds
 
 R, L = 0.02, 0.053
 

@@ -6,7 +6,7 @@ import struct
 
 import pytest
 
-from epuck_vrep_compat.ros.publishing import StepBatch
+from epuck_vrep_compat.ros.transport.step_batch import StepBatch
 
 FRAME = struct.Struct("<I")
 

@@ -16,10 +16,10 @@ from vrep_common.srv import (
     simRosDisablePublisherRequest, simRosDisableSubscriberRequest, simRosEnablePublisherRequest,
     simRosEnableSubscriberRequest)
 
-from epuck_vrep_compat.ros.vrep_stream_names import (
+from epuck_vrep_compat.ros.vrep_plugin.stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
-from epuck_vrep_compat.ros.vrep_stream_subscribers import RawString
-from epuck_vrep_compat.ros.vrep_streams import VrepStreams
+from epuck_vrep_compat.ros.vrep_plugin.stream_subscribers import RawString
+from epuck_vrep_compat.ros.vrep_plugin.streams import VrepStreams
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, STOPPED, SimulationControl
 from epuck_vrep_compat.sim.simulation import Simulation

@@ -9,7 +9,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, Range
 from tf2_msgs.msg import TFMessage
 
-from epuck_vrep_compat.ros import wire
+from epuck_vrep_compat.ros.transport import wire
 
 
 def _framed(msg):

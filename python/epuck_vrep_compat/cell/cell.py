@@ -52,7 +52,7 @@ class Cell(SimulationExtension):
         self._build_laser(registry, world)
         self._build_cameras()
         self._build_kinect()
-        self.scan_due = False
+        self.scan_count = 0                 # laser scans taken so far (a reader compares)
         self.blobs: Dict[str, np.ndarray] = {}
         self._sync_world()
         self._sense()
@@ -108,6 +108,7 @@ class Cell(SimulationExtension):
             self.operator.advance(dt)
         self._sync_world()
         self._sense()
+        self._write_blob_signals()
 
     def link_poses(self):
         """Every link frame in the world, stacked over the robots (as of the last step)."""
@@ -141,10 +142,26 @@ class Cell(SimulationExtension):
             position, quat = self.sim.registry.world_pose(self.laser_handle)
             self.laser_ranges = self.scanner.scan(self.sim.world, position, quat,
                                                   self.laser_handle, GROUP_ALL)
-            self.scan_due = True
+            self.scan_count += 1
         for camera, c in zip(self.cameras, self.camera_specs):
             if c.blob_topics:
                 self.blobs[c.name] = camera.blob_packet()
+
+    def _write_blob_signals(self):
+        """The thesis's child script, each step: a blob camera's first blob x and y become the
+        float signals of its ``blob_topics``, which are cleared while it sees no blob."""
+        floats = self.sim.signals["float"]
+        for c in self.camera_specs:
+            if not c.blob_topics:
+                continue
+            packet = self.blobs.get(c.name)
+            x_topic, y_topic = c.blob_topics
+            if packet is not None and len(packet) > 6 and packet[0] >= 1:
+                floats[x_topic] = float(packet[4])
+                floats[y_topic] = float(packet[5])
+            else:
+                floats.pop(x_topic, None)
+                floats.pop(y_topic, None)
 
     # --- objects ------------------------------------------------------------------------------
     def owns(self, obj) -> bool:
@@ -197,10 +214,13 @@ class Cell(SimulationExtension):
         if self.operator is not None and self.operator_handles[0] in removed:
             self.operator, self.operator_handles = None, ()
         if self.laser is not None and self.laser_handle in removed:
-            self.laser, self.laser_ranges, self.scan_due = None, None, False
+            self.laser, self.laser_ranges = None, None
         kept = [(v, c) for v, c in zip(self.cameras, self.camera_specs) if v.handle not in removed]
+        blob_topics = {t for c in self.camera_specs for t in c.blob_topics}
         self.cameras = [v for v, _ in kept]
         self.camera_specs = [c for _, c in kept]
+        for topic in blob_topics - {t for c in self.camera_specs for t in c.blob_topics}:
+            self.sim.signals["float"].pop(topic, None)      # a removed camera's signals go
         self.blobs = {c.name: self.blobs[c.name] for c in self.camera_specs
                       if c.name in self.blobs}
         if self.kinect_depth is not None and self.kinect_depth.handle in removed:

@@ -31,6 +31,7 @@ from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
 from epuck_vrep_compat.sim.extension import SimulationExtension
+from epuck_vrep_compat.sim.leds import RobotLeds
 from epuck_vrep_compat.sim.noise import NoiseSettings
 
 
@@ -71,6 +72,9 @@ class Simulation:
         self._index_by_name = {}
         self._commands_lock = threading.Lock()
         self.command = RobotCommand(np.zeros((0, 2)), np.zeros(0))
+        self.leds = RobotLeds()          # set by cmd_led, read by the LED face
+        # V-REP's signals: named values that scripts (the cell's) and clients share, by kind
+        self.signals = {"int": {}, "float": {}, "string": {}}
         self.listeners: List[Callable[[], None]] = []
         starts = place_robots(scene, len(robot_names), self.model.body_radius_m)
         for number, (name, pose) in enumerate(zip(robot_names, starts)):
@@ -115,6 +119,7 @@ class Simulation:
             self._index_by_name = {n: i for i, n in enumerate(self.robot_names)}
             self.command = RobotCommand(np.delete(self.command.wheel_rad_s, index, axis=0),
                                         np.delete(self.command.stamp_s, index))
+        self.leds.remove(name)
         self.swarm.remove_robot(index)
         removed = self.registry.remove(parts.root.handle)
         self._changed()
@@ -169,6 +174,7 @@ class Simulation:
             self._index_by_name[name] = index
             self.command = RobotCommand(np.vstack((self.command.wheel_rad_s, np.zeros((1, 2)))),
                                         np.append(self.command.stamp_s, -np.inf))
+        self.leds.add(name)
         return parts
 
     def _attach_components(self, name, parts):

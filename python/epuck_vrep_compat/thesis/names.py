@@ -10,9 +10,10 @@ from dataclasses import dataclass
 from typing import Tuple
 
 from epuck_vrep_compat.scene import robots as models
-from epuck_vrep_compat.scene.vrep_codes import WORLD_FRAME  # noqa: F401  (headerGiunto frame)
+# WORLD_FRAME: headerGiunto.header.frame_id of absolute poses
+from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE, WORLD_FRAME  # noqa: F401
 
-VREP_NODE = "/vrep"
+VREP_NODE = NODE
 
 
 @dataclass(frozen=True)
@@ -73,5 +74,5 @@ KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"       # sensor_msgs/Image 32FC1
 KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
 
 # The operator's blob, published by the cameras' child scripts through the plugin (thesis 5.1).
-BLOB_TOPIC_FORMAT = "/vrep/Blob_Camera_{camera}_{axis}"
+BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
 

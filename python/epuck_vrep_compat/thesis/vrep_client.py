@@ -12,7 +12,7 @@ from typing import Callable, Dict, Optional
 
 import rospy
 
-from epuck_vrep_compat.ros.log import ThrottledLog
+from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.thesis.names import VREP_NODE
 from epuck_vrep_compat.thesis.params import ParamError
 from epuck_vrep_compat.vrep import constants as vc

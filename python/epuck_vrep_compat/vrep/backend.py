@@ -60,7 +60,7 @@ class VrepBackend:
         self._parameters = VrepParameters(self._objects, control, real_time)
         self._models = VrepModels(self._objects, models)
         self.errors = ErrorLog()
-        self.signals = {"int": {}, "float": {}, "string": {}}
+        self.signals = sim.signals          # the simulation's: the cell's scripts write some
 
     # --- objects -----------------------------------------------------------------------------
     object_handle = _part("_objects", VrepObjects.object_handle)

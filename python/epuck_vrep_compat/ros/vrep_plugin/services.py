@@ -2,25 +2,24 @@
 advertises (96: all of ``vrep_common``'s srv files but ``simRosAppendStringSignal``).
 
 Each call runs under the simulation lock (the core is not thread-safe); only work that touches
-no simulation state (reading a model file) runs before it, so no request holds the lock long. A failure never reaches
-rospy: it becomes V-REP's failure answer (-1 result or handle, empty arrays and strings), its
-reason goes to the error log read by ``simRosGetLastErrors`` and to a throttled warning, and the
-node keeps running. Services for things this simulator does not have (dialogs, UIs, consoles,
-scripts, files, ...) answer the same way, so old clients get an answer instead of hanging.
-The handlers live in ``vrep_services_objects``, ``vrep_services_devices`` and
-``vrep_services_sim``; the four stream services call :class:`VrepStreams`.
+no simulation state (reading a model file) runs before it, so no request holds the lock long.
+A failure never reaches rospy: it becomes V-REP's failure answer (-1 result or handle, empty
+arrays and strings), its reason goes to the error log read by ``simRosGetLastErrors`` and to a
+throttled warning, and the node keeps running. Services for things this simulator does not have
+(dialogs, UIs, consoles, scripts, files, ...) answer the same way, so old clients get an answer
+instead of hanging. The handlers live in ``services_objects``, ``services_devices`` and
+``services_sim``; the four stream services call :class:`VrepStreams`.
 """
-import time
-
 import rospy
 import vrep_common.srv
 
-from epuck_vrep_compat.ros import vrep_services_devices, vrep_services_objects, vrep_services_sim
-from epuck_vrep_compat.ros.vrep_services_objects import Prepared
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE
+from epuck_vrep_compat.ros.vrep_plugin import services_devices, services_objects, services_sim
+from epuck_vrep_compat.ros.vrep_plugin.services_objects import Prepared
 from epuck_vrep_compat.vrep.backend import VrepError
 
 NOT_ADVERTISED = ("simRosAppendStringSignal",)    # defined in vrep_common, never advertised
-WARN_PERIOD_S = 5.0                               # per service
 
 # Services for features this simulator does not have: "(no <what>)" in the error.
 UNSUPPORTED = {
@@ -87,12 +86,15 @@ def _refuse(reason):
 
 
 class VrepServices:
+    """The plugin's ``/vrep/simRos*`` services, each answering as V-REP did (see the module's
+    docstring); ``streams``: the :class:`VrepStreams` the four stream services act on."""
+
     def __init__(self, backend, lock, streams):
         self.backend = backend
         self._lock = lock
-        self._last_warning = {}
+        self._log = ThrottledLog()              # one line per service and period
         handlers = {}
-        for module in (vrep_services_objects, vrep_services_devices, vrep_services_sim):
+        for module in (services_objects, services_devices, services_sim):
             handlers.update(module.HANDLERS)
         handlers.update(self._stream_handlers(streams))
         self._services = []
@@ -105,7 +107,7 @@ class VrepServices:
             self._services.append(rospy.Service(
                 "~" + name, service_class, self._wrap(name, handler,
                                                       service_class._response_class)))
-        rospy.loginfo("/vrep: %d simRos* services advertised", len(self._services))
+        rospy.loginfo("%s: %d simRos* services advertised", NODE, len(self._services))
 
     @staticmethod
     def _stream_handlers(streams):
@@ -119,7 +121,7 @@ class VrepServices:
     def _wrap(self, name, handler, response_class):
         def serve(req):
             errors = []
-            log = rospy.logwarn
+            log = self._log.warn
             try:
                 if isinstance(handler, Prepared):      # the slow half outside the lock
                     prepared = handler.prepare(self.backend, req)
@@ -133,21 +135,15 @@ class VrepServices:
                 response = failure_response(response_class)
             except Exception as e:      # a bug must not take the node (or the client) down
                 errors.append(f"internal error: {type(e).__name__}: {e}")
-                log = rospy.logerr
+                log = self._log.error
                 response = failure_response(response_class)
             self._report(name, errors, log)
             return response
         return serve
 
     def _report(self, name, errors, log):
-        """Every reason into the error log; one line per service and WARN_PERIOD_S."""
+        """Every reason into the error log; the last one logged, throttled per service."""
         for reason in errors:
             self.backend.errors.add(reason if reason.startswith(name) else f"{name}: {reason}")
-        now = time.monotonic()
-        if errors and now - self._last_warning.get(name, -WARN_PERIOD_S) >= WARN_PERIOD_S:
-            self._last_warning[name] = now
-            log("/vrep/%s: %s", name, errors[-1])
-
-    def shutdown(self):
-        for service in self._services:
-            service.shutdown()
+        if errors:
+            log(name, NODE_NAMESPACE + "%s: %s", name, errors[-1])

@@ -1,14 +1,14 @@
 """``simRos*`` handlers for the simulation, signals, parameters and the error log
 (VP ``ROS_server.cpp``).
 
-Same handler shape as :mod:`vrep_services_objects`: ``handler(backend, req, errors)``. A signal
+Same handler shape as :mod:`services_objects`: ``handler(backend, req, errors)``. A signal
 that does not exist is not an error in V-REP (clients poll for them): it answers 0 (integer,
 float) or -1 (string) without an entry in simRosGetLastErrors.
 """
 import rospy
 from vrep_common import srv
 
-from epuck_vrep_compat.ros.vrep_services_objects import frame_seq, sim_stamp
+from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq, sim_stamp
 from epuck_vrep_compat.vrep.backend import VrepError
 
 ARRAY_PARAMETER_SIZE = 3

@@ -21,8 +21,8 @@ from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32, Float64, Int32, Int32MultiArray, String, UInt8
 from vrep_common.msg import JointSetStateData
 
-from epuck_vrep_compat.ros.vrep_services_devices import JOINT_SET_MODES
-from epuck_vrep_compat.ros.vrep_stream_publishers import signal_bytes
+from epuck_vrep_compat.ros.vrep_plugin.services_devices import JOINT_SET_MODES
+from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import signal_bytes
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 
@@ -35,6 +35,8 @@ class InvalidMessage(ValueError):
 
 @dataclass(frozen=True)
 class SubscriberKind:
+    """How one subscriber stream command behaves (see the module's docstring)."""
+
     name: str
     msg_class: type
     apply: Callable

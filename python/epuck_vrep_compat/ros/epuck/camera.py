@@ -5,45 +5,18 @@ top row first, frame ``<robot>/camera_optical``, with a latched ``camera_info`` 
 The image publisher has a queue of 1: a slow viewer drops frames instead of stalling the step.
 :meth:`CameraFace.sync` follows robots added to and removed from the simulation.
 """
-import math
-
-import numpy as np
 import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
-from epuck_vrep_compat.ros import names
+from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.ros.face import Face, Step
+from epuck_vrep_compat.ros.messages import camera_info, fill_image
 
 
-def fill_image(msg: Image, pixels) -> Image:
-    """Fill ``msg`` with top-row-first pixels: (H, W, 3) as rgb8, (H, W) as mono8."""
-    mono = pixels.ndim == 2
-    msg.height, msg.width = int(pixels.shape[0]), int(pixels.shape[1])
-    msg.encoding = "mono8" if mono else "rgb8"
-    msg.is_bigendian = 0
-    msg.step = msg.width * (1 if mono else 3)
-    msg.data = np.ascontiguousarray(pixels, dtype=np.uint8).tobytes()
-    return msg
+class CameraFace(Face):
+    """Each robot's ``camera`` image (at the camera's rate, while someone subscribes) and its
+    latched ``camera_info``."""
 
-
-def pinhole_camera_info(width, height, f, cx, cy, frame_id="") -> CameraInfo:
-    """An undistorted pinhole CameraInfo with square pixels (focal length ``f`` in pixels)."""
-    info = CameraInfo()
-    info.header.frame_id = frame_id
-    info.width, info.height = width, height
-    info.distortion_model = "plumb_bob"
-    info.D = [0.0] * 5
-    info.K = [f, 0.0, cx, 0.0, f, cy, 0.0, 0.0, 1.0]
-    info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
-    info.P = [f, 0.0, cx, 0.0, 0.0, f, cy, 0.0, 0.0, 0.0, 1.0, 0.0]
-    return info
-
-
-def camera_info(width, height, vertical_fov_rad, frame_id) -> CameraInfo:
-    f = 0.5 * height / math.tan(0.5 * vertical_fov_rad)
-    return pinhole_camera_info(width, height, f, 0.5 * width, 0.5 * height, frame_id)
-
-
-class CameraFace:
     def __init__(self, profile, sim):
         self.profile = profile
         self.sim = sim
@@ -61,13 +34,14 @@ class CameraFace:
             if name not in self._cameras:
                 self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot)
 
-    def publish(self, secs: int, nsecs: int):
+    def publish(self, step: Step):
+        """Render and publish each camera that is due and has a subscriber."""
         now = self.sim.time_s
         for camera in self._cameras.values():
             if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
                 continue
             camera.next_due_s = now + self._period_s
-            camera.image.publish(camera.render(secs, nsecs))
+            camera.image.publish(camera.render(step.secs, step.nsecs))
 
 
 class _Camera:

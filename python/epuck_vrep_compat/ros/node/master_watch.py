@@ -26,6 +26,9 @@ def master_pid(caller_id: str) -> int:
 
 
 class MasterWatch:
+    """A daemon thread that exits the process when the ROS master restarts or stops answering
+    (see the module's docstring)."""
+
     def __init__(self, first_master_pid: int, period_s: float = 1.0, grace_s: float = 3.0):
         self._master_pid = first_master_pid
         self.period_s = period_s

@@ -2,9 +2,9 @@
 
 Publishing happens once per step from the simulation thread, only for publishers that have a
 subscriber (tracked by a subscribe listener, so idle robots cost nothing). Per-step messages go
-out synchronously (see ``publishing.py``). Callbacks only validate and store commands, by robot
-name. :meth:`EpuckFace.sync` follows robots added to and removed from the simulation: a new
-robot's topics are advertised, a removed robot's unadvertised.
+out synchronously (see ``transport/step_batch.py``). Callbacks only validate and store
+commands, by robot name. :meth:`EpuckFace.sync` follows robots added to and removed from the
+simulation: a new robot's topics are advertised, a removed robot's unadvertised.
 """
 import threading
 
@@ -14,9 +14,11 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, Range
 
-from epuck_vrep_compat.ros import commands, driver_scan, names, wire
-from epuck_vrep_compat.ros.log import ThrottledLog
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.epuck import commands, driver_scan, names
+from epuck_vrep_compat.ros.face import Face, Step
+from epuck_vrep_compat.ros.transport import wire
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
 
@@ -81,7 +83,10 @@ class _Robot:
             pub.unregister()
 
 
-class EpuckFace:
+class EpuckFace(Face):
+    """The per-robot sensor topics (ranges, IMU, odometry, ground truth, the driver's scan) and
+    each robot's ``cmd_vel``."""
+
     def __init__(self, profile, sim, cmd_vel_scaling, accel_sign, publish_ground_truth):
         self.profile = profile
         self.sim = sim
@@ -159,8 +164,9 @@ class EpuckFace:
                            msg.angular.z)
 
     # --- per step ------------------------------------------------------------------------
-    def publish(self, batch, secs: int, nsecs: int):
+    def publish(self, step: Step):
         """Queue this step's sensor messages of every robot someone listens to."""
+        batch, secs, nsecs = step.batch, step.secs, step.nsecs
         with self.connections_lock:
             active = np.flatnonzero(self.connections)
         if active.size == 0:

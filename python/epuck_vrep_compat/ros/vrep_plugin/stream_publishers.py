@@ -1,6 +1,6 @@
 """What each publisher stream command of the legacy plugin publishes (V-REP 3.3.0's
 ``ROS_server::launchPublisher`` and ``streamAllData``), except the sensor streams, which are in
-:mod:`vrep_stream_sensors`.
+:mod:`stream_sensors`.
 
 A :class:`PublisherKind` says how one command behaves:
 * ``check(backend, aux)`` runs when the stream is enabled, where the plugin validated the target;
@@ -23,9 +23,10 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, Int32, Int32MultiArray, String, UInt8
 from vrep_common.msg import ObjectGroupData
 
-from epuck_vrep_compat.ros.vrep_services_devices import fill_joint_state
-from epuck_vrep_compat.ros.vrep_services_objects import frame_seq
-from epuck_vrep_compat.ros.wire import WireMessage
+from epuck_vrep_compat.ros.common.names import WORLD_FRAME
+from epuck_vrep_compat.ros.transport.wire import WireMessage
+from epuck_vrep_compat.ros.vrep_plugin.services_devices import fill_joint_state
+from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
@@ -33,6 +34,8 @@ from epuck_vrep_compat.vrep.group_data import group_data
 
 @dataclass(frozen=True)
 class PublisherKind:
+    """How one publisher stream command behaves (see the module's docstring)."""
+
     name: str
     msg_class: Optional[type]
     build: Callable
@@ -118,7 +121,7 @@ def _transform(step, aux):
     backend = step.backend
     position, quat = backend.pose(aux.int1, aux.int2)
     parent = backend.parent(aux.int1) if aux.int2 == vc.HANDLE_PARENT else aux.int2
-    parent_name = "world" if parent == vc.WORLD else backend.object_name(parent)
+    parent_name = WORLD_FRAME if parent == vc.WORLD else backend.object_name(parent)
     child_frame, parent_frame = step.frames.transform_frames(
         backend.object_name(aux.int1), parent_name, aux.string)
     msg = TransformStamped()

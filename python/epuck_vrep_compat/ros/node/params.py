@@ -1,6 +1,7 @@
 """Private parameters of the simulator node: read once, validated, summarised in one line.
 
-An unusable value raises :class:`ParamError` naming the parameter; the node then exits non-zero.
+An unusable value raises :class:`ParamError` (the package's one, from ``ros/common/params.py``)
+naming the parameter; the node then exits non-zero.
 """
 import math
 from dataclasses import dataclass, field
@@ -8,18 +9,17 @@ from dataclasses import dataclass, field
 import rospy
 
 from epuck_vrep_compat.devices.components import CameraSpec
-from epuck_vrep_compat.ros.commands import SCALINGS
-from epuck_vrep_compat.ros.names import PROFILES
+from epuck_vrep_compat.ros.common.params import ParamError, read_typed as _get
+from epuck_vrep_compat.ros.epuck.commands import SCALINGS
+from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.sim.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
 
 
-class ParamError(ValueError):
-    """A parameter value the node cannot run with."""
-
-
 @dataclass
 class SimParams:
+    """The simulator node's private parameters, as :func:`read_params` read them."""
+
     world: str = ""
     n: int = 1
     profile: str = "vrep"
@@ -40,21 +40,6 @@ class SimParams:
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
                 f"{self.camera.width}x{self.camera.height}@{self.camera.rate_hz}Hz")
-
-
-def _get(name, default, kind, check=None, what=""):
-    value = rospy.get_param("~" + name, default)
-    if kind is float and isinstance(value, int) and not isinstance(value, bool):
-        value = float(value)
-    if kind is int and isinstance(value, float) and value.is_integer():
-        value = int(value)
-    if not isinstance(value, kind) or isinstance(value, bool) != (kind is bool):
-        raise ParamError(f"parameter '~{name}' must be {kind.__name__}, got {value!r}")
-    if kind is float and not math.isfinite(value):
-        raise ParamError(f"parameter '~{name}' must be finite, got {value!r}")
-    if check is not None and not check(value):
-        raise ParamError(f"parameter '~{name}' {what}, got {value!r}")
-    return value
 
 
 def read_params(default_world: str) -> SimParams:

@@ -2,31 +2,37 @@
 
 The markers are latched and ``frame_locked`` to each robot's base_link, so rviz moves them with
 TF and they are re-sent only when an LED changes or the scene's objects change; every array
-starts with a DELETEALL, so a removed robot or obstacle leaves rviz too. LED states are kept by
-robot name, so :meth:`LedFace.sync` keeps them across other robots' removal.
+starts with a DELETEALL, so a removed robot or obstacle leaves rviz too. The LED states are the
+model's (:class:`epuck_vrep_compat.sim.leds.RobotLeds`, by robot name): ``cmd_led`` sets them
+there, as ``cmd_vel`` sets wheel speeds, and this face reads them after each step.
 """
 import threading
 
-import numpy as np
 import rospy
 from std_msgs.msg import ColorRGBA, UInt8MultiArray
 from visualization_msgs.msg import Marker, MarkerArray
 
-from epuck_vrep_compat.ros import commands, names
-from epuck_vrep_compat.ros.log import ThrottledLog
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
+from epuck_vrep_compat.ros.epuck import commands, names
+from epuck_vrep_compat.ros.face import Face, Step
+from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.scene.epuck_model import led_positions
 
-MARKER_TOPIC = "/vrep/markers"
+MARKER_TOPIC = NODE_NAMESPACE + "markers"
 _LED_ON = ColorRGBA(1.0, 0.05, 0.05, 1.0)
 _LED_OFF = ColorRGBA(0.25, 0.1, 0.1, 1.0)
 
 
-class LedFace:
+class LedFace(Face):
+    """Each robot's ``cmd_led`` and latched ``led_state``, and the scene's rviz markers."""
+
     def __init__(self, profile, sim):
         self.profile = profile
         self.sim = sim
         self._lock = threading.Lock()
         self._robots = {}             # robot name -> _Leds
+        self._seen_changes = -1       # the LED model's change count at the last publication
         self._log = ThrottledLog()
         self._markers = rospy.Publisher(MARKER_TOPIC, MarkerArray, queue_size=1, latch=True)
         self.sync()
@@ -43,31 +49,42 @@ class LedFace:
             leds.close()
 
     def _on_cmd_led(self, msg, name):
+        """A robot's ``cmd_led`` (rospy thread): the new states into the model. One command at
+        a time: a toggle reads the states it changes."""
         with self._lock:
-            leds = self._robots.get(name)
-            if leds is None:
+            current = self.sim.leds.get(name)
+            if current is None:
                 return                                  # the robot was removed
-            result = commands.apply_led_command(self.profile.name, leds.state,
+            result = commands.apply_led_command(self.profile.name, current[0],
                                                 bytearray(msg.data))
             if isinstance(result, str):
                 self._log.warn(f"{name}:cmd_led", "%s: %s; ignored", name, result)
                 return
-            leds.state = np.array(result, dtype=np.uint8)
-            leds.dirty = True
-            self._markers_dirty = True
+            self.sim.leds.set(name, result)
 
-    def publish(self):
-        """Called from the simulation thread after a step: re-send what changed."""
+    def publish(self, step: Step):
+        """After a step: re-send the LED states set since, and the markers with them."""
+        model = self.sim.leds
+        changes = model.changes
         with self._lock:
-            changed = [(leds, leds.state.copy()) for leds in self._robots.values() if leds.dirty]
-            for leds, _ in changed:
-                leds.dirty = False
-            markers_dirty, self._markers_dirty = self._markers_dirty, False
-            state = {name: leds.state.copy() for name, leds in self._robots.items()}
-        for leds, values in changed:
-            leds.publisher.publish(UInt8MultiArray(data=bytes(values)))
-        if markers_dirty:
-            self._markers.publish(self._marker_array(state))
+            if changes == self._seen_changes and not self._markers_dirty:
+                return
+            self._seen_changes, self._markers_dirty = changes, False
+            robots = list(self._robots.items())
+        state = {}
+        for name, leds in robots:
+            entry = model.get(name)
+            if entry is None:
+                continue                                # removed; sync() follows
+            state[name], stamp = entry
+            if stamp != leds.sent:
+                leds.sent = stamp
+                leds.publisher.publish(UInt8MultiArray(data=bytes(state[name])))
+        self._markers.publish(self._marker_array(state))
+
+    def publish_idle(self, step: Step):
+        """While not stepping too: LED commands still change the latched states."""
+        self.publish(step)
 
     def _marker_array(self, state):
         """``state``: robot name -> its 10 LED values."""
@@ -105,12 +122,12 @@ class LedFace:
 
 
 class _Leds:
-    """One robot's LEDs: their state, its latched ``led_state`` and its ``cmd_led``."""
+    """One robot's latched ``led_state`` and its ``cmd_led``; ``sent``: the model's change
+    stamp of the states last published (None: nothing published yet)."""
 
     def __init__(self, face, name):
         profile = face.profile
-        self.state = np.zeros(commands.LED_COUNT, dtype=np.uint8)
-        self.dirty = True
+        self.sent = None
         self.publisher = rospy.Publisher(profile.topic(name, "led_state"), UInt8MultiArray,
                                          queue_size=1, latch=True)
         self._subscriber = rospy.Subscriber(profile.topic(name, "cmd_led"), UInt8MultiArray,
@@ -120,19 +137,3 @@ class _Leds:
         self._subscriber.unregister()
         self.publisher.unregister()
 
-
-def shape_marker(frame, ns, marker_id, shape, position, scale, color, quat=(0, 0, 0, 1)):
-    """A frame-locked primitive marker (the pose is relative to ``frame``)."""
-    m = Marker()
-    m.header.frame_id = frame
-    m.ns = ns
-    m.id = marker_id
-    m.type = shape
-    m.action = Marker.ADD
-    m.frame_locked = True
-    m.pose.position.x, m.pose.position.y, m.pose.position.z = (float(v) for v in position)
-    (m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z,
-     m.pose.orientation.w) = (float(v) for v in quat)
-    m.scale.x, m.scale.y, m.scale.z = (float(v) for v in scale)
-    m.color = color
-    return m

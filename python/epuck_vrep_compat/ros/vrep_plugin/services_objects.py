@@ -19,6 +19,8 @@ from epuck_vrep_compat.vrep.group_data import group_data
 
 
 class Prepared(NamedTuple):
+    """A handler in two halves: ``prepare`` outside the simulation lock, ``handler`` under it."""
+
     prepare: Callable
     handler: Callable
 

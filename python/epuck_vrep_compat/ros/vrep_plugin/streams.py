@@ -11,58 +11,31 @@
   and act on the simulation from rospy's threads, under the simulation lock.
 Callers of the enable/disable methods and of :meth:`VrepStreams.publish` hold the lock. No
 method raises: failures return V-REP's failure value and are recorded for simRosGetLastErrors.
-What each command does is in :mod:`vrep_stream_publishers`, :mod:`vrep_stream_sensors` and
-:mod:`vrep_stream_subscribers`; the naming rules in :mod:`vrep_stream_names`.
+What each command does is in :mod:`stream_publishers`, :mod:`stream_sensors` and
+:mod:`stream_subscribers`; the naming rules in :mod:`stream_names`.
 """
 from dataclasses import dataclass
-from typing import Optional
 
-import rosgraph.names
 import rospy
-from rospy.impl.registration import get_topic_manager
 from tf2_msgs.msg import TFMessage
 from vrep_common.srv import (
     simRosDisablePublisherResponse, simRosDisableSubscriberResponse,
     simRosEnablePublisherResponse, simRosEnableSubscriberResponse)
 
-from epuck_vrep_compat.ros.log import ThrottledLog
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
-from epuck_vrep_compat.ros.vrep_stream_names import (
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import TF_TOPIC
+from epuck_vrep_compat.ros.vrep_plugin.stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
-from epuck_vrep_compat.ros.vrep_stream_publishers import (
+from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import (
     GENERAL_PUBLISHERS, PublisherKind, StreamStep)
-from epuck_vrep_compat.ros.vrep_stream_sensors import SENSOR_PUBLISHERS
-from epuck_vrep_compat.ros.vrep_stream_subscribers import (
+from epuck_vrep_compat.ros.vrep_plugin.stream_sensors import SENSOR_PUBLISHERS
+from epuck_vrep_compat.ros.vrep_plugin.stream_wiring import RospyWiring
+from epuck_vrep_compat.ros.vrep_plugin.stream_subscribers import (
     InvalidMessage, SubscriberKind, subscriber_kinds)
 from epuck_vrep_compat.vrep.backend import VrepError
 
 PUBLISHER_KINDS = {**GENERAL_PUBLISHERS, **SENSOR_PUBLISHERS}
-TF_TOPIC = "/tf"
 ENABLE_PUBLISHER, ENABLE_SUBSCRIBER = "simRosEnablePublisher", "simRosEnableSubscriber"
-WARN_PERIOD_S = 5.0
-
-
-class RospyWiring:
-    """The rospy side of the streams, apart so the unit tests can replace it."""
-
-    def advertise(self, resolved: str, msg_class):
-        return synchronous_publisher(resolved, msg_class)      # data goes through StepBatch
-
-    def subscribe(self, resolved: str, msg_class, callback, callback_args, queue_size):
-        return rospy.Subscriber(resolved, msg_class, callback, callback_args,
-                                queue_size=queue_size)
-
-    def publication_exists(self, resolved: str) -> bool:
-        """Our node already publishes that topic (rospy would share it, whatever the type)."""
-        return get_topic_manager().has_publication(resolved)
-
-    def subscription_type(self, resolved: str) -> Optional[str]:
-        impl = get_topic_manager().get_subscriber_impl(resolved)
-        return None if impl is None else impl.data_class._type
-
-    @staticmethod
-    def is_legal(resolved: str) -> bool:
-        return rosgraph.names.is_legal_name(resolved)
 
 
 @dataclass
@@ -85,6 +58,10 @@ class _SubscriberStream:
 
 
 class VrepStreams:
+    """The plugin's streams: publisher streams published once per step, subscriber streams
+    acting on the simulation (see the module's docstring); ``wiring``: the rospy side
+    (:class:`RospyWiring` unless a test replaces it)."""
+
     def __init__(self, backend, lock, wiring=None):
         self.backend = backend
         self.lock = lock
@@ -95,7 +72,7 @@ class VrepStreams:
         self._next_subscriber_id = 0
         self._tf = None                   # /tf publisher while get_transform streams exist
         self._subscriber_kinds = subscriber_kinds(self._status_bar)
-        self._log = ThrottledLog(WARN_PERIOD_S)
+        self._log = ThrottledLog()
 
     # --- publishers -----------------------------------------------------------------------
     def enable_publisher(self, req) -> simRosEnablePublisherResponse:

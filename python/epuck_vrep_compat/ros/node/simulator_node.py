@@ -5,9 +5,12 @@ V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled 
 Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused),
 ``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
 
-Robots loaded, pasted or removed through ``/vrep`` change the simulation under the node's lock,
-between steps; the simulation then calls :meth:`SimulatorNode._on_robots_changed`, and every
-face follows before the next step.
+Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
+one list, in publication order, and after each step calls ``publish(step)`` on each (on idle
+passes ``publish_idle(step)``). Robots loaded, pasted or removed through ``/vrep`` change the
+simulation under the node's lock, between steps; the simulation then calls
+:meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
+step.
 """
 import sys
 import threading
@@ -22,29 +25,32 @@ from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
 from epuck_vrep_compat.paths import PackageNotFound, data_path
-from epuck_vrep_compat.ros.camera_face import CameraFace
-from epuck_vrep_compat.ros.epuck_face import EpuckFace
-from epuck_vrep_compat.ros.led_face import LedFace
-from epuck_vrep_compat.ros.log import ThrottledLog, serve_get_loggers_safely
-from epuck_vrep_compat.ros.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
-from epuck_vrep_compat.ros.names import PROFILES
-from epuck_vrep_compat.ros.params import ParamError, SimParams, read_params
-from epuck_vrep_compat.ros.publishing import StepBatch, synchronous_publisher
-from epuck_vrep_compat.ros.tf_face import TfFace
-from epuck_vrep_compat.ros.vrep_face import VrepFace
+from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
+from epuck_vrep_compat.ros.common.names import CLOCK_TOPIC, NODE, NODE_NAME, TF_TOPIC
+from epuck_vrep_compat.ros.epuck.camera import CameraFace
+from epuck_vrep_compat.ros.epuck.leds import LedFace
+from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
+from epuck_vrep_compat.ros.epuck.transforms import TfFace
+from epuck_vrep_compat.ros.face import Step
+from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
+from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
+from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
+from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
-NODE_NAME = "vrep"
 MAX_STEPS_PER_CALL = 100000
 _LAG_RESET_S = 0.5       # behind schedule by more than this: stop trying to catch up
 _IDLE_SLEEP_S = 0.002    # poll period while paused, stopped or waiting for a trigger
 
 
 class SimulatorNode:
+    """The simulator node: one simulation, stepped at the requested rate, and its faces."""
+
     def __init__(self, params: SimParams, models_dir: str = None):
         """``models_dir``: the folder of the model files simRosLoadModel finds by name."""
         self.params = params
@@ -62,8 +68,8 @@ class SimulatorNode:
         self._batch = StepBatch()
         self.control = SimulationControl(self.sim, PAUSED if params.paused else RUNNING)
         self.control.listeners.append(self._on_state)
-        self._clock = synchronous_publisher("/clock", Clock)
-        self._tf_pub = synchronous_publisher("/tf", TFMessage)
+        self._clock = synchronous_publisher(CLOCK_TOPIC, Clock)
+        self._tf_pub = synchronous_publisher(TF_TOPIC, TFMessage)
         self.leds = LedFace(profile, self.sim)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
@@ -75,13 +81,16 @@ class SimulatorNode:
         self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
         if self.sim.cell is not None:
-            from epuck_vrep_compat.ros.cell_face import CellFace
-            self.cell = CellFace(self.sim, self.vrep, self._lock)
+            from epuck_vrep_compat.ros.cell.face import CellFace
+            self.cell = CellFace(self.sim, self.vrep.streams, self._lock)
+        # publication order: the cell enables the blob streams before /vrep publishes streams
+        self.faces = [f for f in (self.tf, self.epucks, self.cell, self.vrep, self.cameras,
+                                  self.leds) if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
         rospy.Service("~unpause", Empty, self._on_unpause)
         rospy.Service("~reset", Empty, self._on_reset)
-        self.leds.publish()
+        self.leds.publish(self._step_info())
 
     # --- services ------------------------------------------------------------------------
     def _on_step(self, req):
@@ -130,18 +139,18 @@ class SimulatorNode:
         """Robots or objects came or went (a /vrep service, under the lock): every face
         follows now, so the next step publishes for exactly the robots there are."""
         with self._lock:
-            for face in (self.epucks, self.tf, self.cameras, self.leds, self.cell):
-                if face is not None:
-                    face.sync()
+            for face in self.faces:
+                face.sync()
         robots = list(self.sim.robot_names)
         if self.sim.cell is not None:
             robots += [arm.spec.name for arm in self.sim.cell.arms]
         rospy.loginfo("scene changed: %d robot(s): %s", len(robots), ", ".join(robots) or "none")
 
     # --- the loop ------------------------------------------------------------------------
-    def _stamp(self):
+    def _step_info(self) -> Step:
+        """What the faces publish a step with: the simulation time, the batch, ``/tf``."""
         stamp = rospy.Time.from_sec(self.sim.time_s)
-        return stamp, stamp.secs, stamp.nsecs
+        return Step(stamp.secs, stamp.nsecs, self._batch, self._tf_pub)
 
     def _step_and_publish(self) -> bool:
         """One step and its messages; False when the step failed (see :meth:`_step_failed`)."""
@@ -150,20 +159,10 @@ class SimulatorNode:
         except Exception:  # noqa: BLE001 - the simulation must outlive it, and says so
             self._step_failed(traceback.format_exc())
             return False
-        stamp, secs, nsecs = self._stamp()
-        batch = self._batch
-        batch.add(self._clock, Clock(clock=stamp))
-        if batch.wanted(self._tf_pub):
-            transforms = self.tf.message(secs, nsecs)
-            if transforms is not None:
-                batch.add(self._tf_pub, transforms)
-        self.epucks.publish(batch, secs, nsecs)
-        if self.cell is not None:
-            self.cell.before_streams()
-            self.cell.publish(batch, self._tf_pub, secs, nsecs)
-        self.vrep.publish(batch, secs, nsecs)
-        self.cameras.publish(secs, nsecs)
-        self.leds.publish()
+        step = self._step_info()
+        self._batch.add(self._clock, Clock(clock=step.stamp))
+        for face in self.faces:
+            face.publish(step)
         return True
 
     def _step_failed(self, trace: str):
@@ -196,8 +195,9 @@ class SimulatorNode:
         while not rospy.is_shutdown():
             if not self.control.may_step():
                 with self._lock:
-                    self.vrep.publish_idle(batch, self._stamp()[0])
-                    self.leds.publish()
+                    step = self._step_info()
+                    for face in self.faces:
+                        face.publish_idle(step)
                     batch.flush()
                 time.sleep(_IDLE_SLEEP_S)
                 deadline = time.monotonic()
@@ -221,7 +221,7 @@ def main():
         sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
                          "roscore, or start the simulator with roslaunch\n")
         return 1
-    first_master_pid = master_pid("/" + NODE_NAME)
+    first_master_pid = master_pid(NODE)
     rospy.init_node(NODE_NAME)
     serve_get_loggers_safely()
     # watching from the start: rospy retries a vanished master forever while registering

@@ -8,8 +8,9 @@ the scene registry, so the frames and the simulated parts cannot disagree.
 """
 import numpy as np
 
-from epuck_vrep_compat.ros import names
-from epuck_vrep_compat.ros.wire import TransformBatchWire
+from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.ros.face import Face, Step
+from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
 from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 
 _OPTICAL_FROM_VISION = quat_from_axis_angle((0, 0, 1), np.pi)
@@ -35,7 +36,9 @@ def robot_child_frames(profile, sim, index):
     return out
 
 
-class TfFace:
+class TfFace(Face):
+    """The e-pucks' TF tree: one ``/tf`` message per step, through the shared batch."""
+
     def __init__(self, profile, sim):
         self._profile = profile
         self._sim = sim
@@ -65,6 +68,13 @@ class TfFace:
         self._base_rows = np.array(base_rows, dtype=np.intp)
         self._wheel_rows = np.array(wheel_rows, dtype=np.intp).reshape(-1, 2)
         self.frames = frames
+
+    def publish(self, step: Step):
+        """This step's transforms on ``/tf``, when someone listens."""
+        if step.batch.wanted(step.tf):
+            transforms = self.message(step.secs, step.nsecs)
+            if transforms is not None:
+                step.batch.add(step.tf, transforms)
 
     def message(self, secs: int, nsecs: int):
         """This step's transforms of every robot; None while there is no robot."""

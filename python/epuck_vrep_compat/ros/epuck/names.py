@@ -8,7 +8,7 @@ Profile ``epuck_driver`` reproduces the real robot's driver (gctronic/epuck_driv
 from dataclasses import dataclass
 from typing import Dict, Tuple
 
-ODOM_FRAME = "odom"
+from epuck_vrep_compat.ros.common.names import ODOM_FRAME  # noqa: F401 (a profile name too)
 PROXIMITY_COUNT = 8
 
 
@@ -97,4 +97,3 @@ LASER_FRAME = "base_laser"            # epuck_driver profile only
 # Driver's laser-scan emulation (epuck_driver_cpp): 19 beams from -90 to +90 degrees.
 SCAN_BEAMS = 19
 ROBOT_RADIUS_M = 0.035
-LED_COUNT = 10                         # 8 ring + body + front (driver's LED_NUMBER)

@@ -1,14 +1,14 @@
 """``simRos*`` handlers for joints and sensors (VP ``ROS_server.cpp``).
 
-Same handler shape as :mod:`vrep_services_objects`: ``handler(backend, req, errors)``.
+Same handler shape as :mod:`services_objects`: ``handler(backend, req, errors)``.
 """
 import struct
 
 import numpy as np
 from vrep_common import srv
 
-from epuck_vrep_compat.ros.camera_face import fill_image
-from epuck_vrep_compat.ros.vrep_services_objects import frame_seq, sim_stamp
+from epuck_vrep_compat.ros.messages import fill_image
+from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq, sim_stamp
 from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 

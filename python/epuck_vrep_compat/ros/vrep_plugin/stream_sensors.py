@@ -1,7 +1,7 @@
 """The legacy plugin's sensor publisher streams: vision sensor image, info, depth buffer, depth
 cloud and read (image statistics), proximity sensor, laser scanner and range finder signals,
 odometry and twist (V-REP 3.3.0's ``ROS_server::streamAllData``, ``streamVisionSensorImage``,
-``streamLaserCloud``, ``streamDepthSensorCloud``). See :mod:`vrep_stream_publishers` for the
+``streamLaserCloud``, ``streamDepthSensorCloud``). See :mod:`stream_publishers` for the
 contract of a :class:`PublisherKind`.
 
 Depth cloud (organised, resX x resY, V-REP's row order: bottom row first), per pixel (i, j):
@@ -19,8 +19,9 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan, PointCloud2, PointFiel
 from std_msgs.msg import Int32
 from vrep_common.msg import ProximitySensorData, VisionSensorData, VisionSensorDepthBuff
 
-from epuck_vrep_compat.ros.camera_face import fill_image, pinhole_camera_info
-from epuck_vrep_compat.ros.vrep_stream_publishers import (
+from epuck_vrep_compat.ros.common.names import WORLD_FRAME
+from epuck_vrep_compat.ros.messages import fill_image, pinhole_camera_info
+from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import (
     PublisherKind, set_header, packed_floats, string_signal)
 from epuck_vrep_compat.scene.transforms import quat_conj, quat_rotate
 from epuck_vrep_compat.vrep import constants as vc
@@ -160,7 +161,7 @@ def _odometry(step, aux):
     backend = step.backend
     child_frame = step.object_frame(aux.int1)
     reference = backend.parent(aux.int1) if aux.int2 == vc.HANDLE_PARENT else aux.int2
-    reference_name = "world"
+    reference_name = WORLD_FRAME
     if reference != vc.WORLD:
         try:
             reference_name = backend.object_name(reference)

@@ -13,9 +13,9 @@ V-REP 3.3.0's ``ROS_server`` (``addPublisher``, ``getPublisherIndexFromCmd``,
 """
 from dataclasses import dataclass
 
+from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
 from epuck_vrep_compat.vrep import constants as vc
 
-NODE_NAMESPACE = "/vrep/"
 INFO_TOPIC = "info"
 INFO_RESOLVED = NODE_NAMESPACE + INFO_TOPIC
 COLLISION_SUFFIX = "_2"

@@ -2,25 +2,27 @@
 
 ``/vrep/info`` goes out once per simulation step (and every ``IDLE_INFO_PERIOD_S`` of wall time
 while paused, stopped or waiting for a synchronous trigger, as on the plugin's GUI passes); the
-``simRos*`` services and the enabled streams are in :mod:`vrep_services` and
-:mod:`vrep_streams`. The simulator node must be named ``vrep`` so that everything lands under
+``simRos*`` services and the enabled streams are in :mod:`services` and
+:mod:`streams`. The simulator node must be named ``vrep`` so that everything lands under
 ``/vrep/`` as clients expect.
 """
 import time
 
-import rospy
 from std_msgs.msg import Float32, Int32
 from vrep_common.msg import VrepInfo
 
-from epuck_vrep_compat.ros.publishing import synchronous_publisher
-from epuck_vrep_compat.ros.vrep_services import VrepServices
-from epuck_vrep_compat.ros.vrep_streams import VrepStreams
+from epuck_vrep_compat.ros.face import Face, Step
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
+from epuck_vrep_compat.ros.vrep_plugin.services import VrepServices
+from epuck_vrep_compat.ros.vrep_plugin.streams import VrepStreams
 from epuck_vrep_compat.sim.control import STOPPED
 
 IDLE_INFO_PERIOD_S = 0.05
 
 
-class VrepFace:
+class VrepFace(Face):
+    """V-REP's legacy plugin: ``/vrep/info``, the ``simRos*`` services and the enabled streams."""
+
     def __init__(self, backend, lock):
         self.backend = backend
         self._info = synchronous_publisher("~info", VrepInfo)
@@ -43,16 +45,16 @@ class VrepFace:
         msg.timeStep = Float32(step)
         return msg
 
-    def publish(self, batch, secs: int, nsecs: int):
+    def publish(self, step: Step):
         """After a step: info, then every enabled stream (one way: state -> ROS)."""
-        batch.add(self._info, self.info_message(rospy.Time(secs, nsecs)))
-        self.streams.publish(batch, secs, nsecs)
+        step.batch.add(self._info, self.info_message(step.stamp))
+        self.streams.publish(step.batch, step.secs, step.nsecs)
 
-    def publish_idle(self, batch, stamp):
+    def publish_idle(self, step: Step):
         """While not stepping (paused, stopped, waiting for a trigger): info and the enabled
         streams every ``IDLE_INFO_PERIOD_S``, as the plugin did on V-REP's GUI passes."""
         now = time.monotonic()
         if now - self._last_idle_info >= IDLE_INFO_PERIOD_S:
             self._last_idle_info = now
-            batch.add(self._info, self.info_message(stamp))
-            self.streams.publish(batch, stamp.secs, stamp.nsecs)
+            step.batch.add(self._info, self.info_message(step.stamp))
+            self.streams.publish(step.batch, step.secs, step.nsecs)

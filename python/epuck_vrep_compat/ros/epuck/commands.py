@@ -14,6 +14,8 @@ In every convention the core then clamps to the motors' 1000 steps/s, keeping th
 """
 import math
 
+from epuck_vrep_compat.sim.leds import LED_COUNT
+
 SCALINGS = ("si", "vrep", "epuck_driver")
 _INPUT_LIMIT = 1.0e3     # |v|, |w| beyond this are clamped before any arithmetic (no overflow)
 
@@ -38,7 +40,6 @@ def wheel_speeds(scaling: str, linear_x: float, angular_z: float, wheel_radius_m
     raise ValueError(f"unknown cmd_vel scaling '{scaling}'")
 
 
-LED_COUNT = 10
 
 
 def apply_led_command(profile: str, current, data):

@@ -1,0 +1,1 @@
+"""The industrial cell's face: joints, laser, TF, blob streams and rviz."""

@@ -1,0 +1,92 @@
+"""Each cell robot's joint topics: ``/<robot>/joint_states`` out every step;
+``/<robot>/joint_command`` and, for a mobile base, ``/<robot>/cmd_vel`` in.
+
+``joint_command`` (``sensor_msgs/JointState``): positions are target positions, or, with no
+positions, velocities are target velocities; names select joints, none = all in order. A command
+stops the robot's default script until the simulation is stopped or reset. Commands arrive on
+rospy's threads and act on the arm under the simulation lock.
+"""
+import math
+
+import rospy
+from geometry_msgs.msg import Twist
+from sensor_msgs.msg import JointState
+
+from epuck_vrep_compat.devices.articulated import POSITION, VELOCITY
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
+
+
+class ArmTopics:
+    """One cell robot's joint topics (see the module's docstring)."""
+
+    def __init__(self, arm, lock, log):
+        self.arm = arm
+        self._lock = lock
+        self._log = log
+        ns = "/" + arm.spec.name
+        self._msg = JointState(name=arm.joint_names())
+        self._subscribers = [rospy.Subscriber(ns + "/joint_command", JointState,
+                                              self._on_joint_command, queue_size=10)]
+        if arm.spec.mobile:
+            self._subscribers.append(rospy.Subscriber(ns + "/cmd_vel", Twist, self._on_cmd_vel,
+                                                      queue_size=10))
+        self._states = synchronous_publisher(ns + "/joint_states", JointState)
+
+    def close(self):
+        """The robot was removed: its topics go."""
+        self._states.unregister()
+        for subscriber in self._subscribers:
+            subscriber.unregister()
+
+    def publish(self, batch, stamp):
+        """This step's joint states, when someone listens."""
+        if batch.wanted(self._states):
+            arm, msg = self.arm, self._msg
+            msg.header.stamp = stamp
+            msg.position = arm.q.tolist()
+            msg.velocity = arm.qd.tolist()
+            msg.effort = arm.tau.tolist()
+            batch.add(self._states, msg)
+
+    def _on_joint_command(self, msg):
+        arm = self.arm
+        names = list(msg.name) if msg.name else arm.joint_names()
+        values, mode = (msg.position, POSITION) if msg.position else (msg.velocity, VELOCITY)
+        if len(values) != len(names):
+            self._log.warn(f"{arm.spec.name}:lengths",
+                           "/%s/joint_command: %d names but %d values; ignored",
+                           arm.spec.name, len(names), len(values))
+            return
+        with self._lock:
+            for name, value in zip(names, values):
+                self._command_joint(name, value, mode)
+
+    def _command_joint(self, name, value, mode):
+        arm = self.arm
+        k = arm.movable_index(name)
+        if k is None or not math.isfinite(value):
+            self._log.warn(f"{arm.spec.name}:{name}:{k is None}",
+                           "/%s/joint_command: %s joint '%s' value %s; ignored",
+                           arm.spec.name, "unknown" if k is None else "bad", name, value)
+            return
+        joint = arm.joints[k]
+        if mode == POSITION:
+            joint.set_target_position(value)
+        elif joint.set_target_velocity(value) != value:
+            self._log.warn(f"{arm.spec.name}:{name}:speed",
+                           "/%s/joint_command: joint '%s' velocity %s clamped to its "
+                           "limit %s", arm.spec.name, name, value, joint.max_velocity)
+
+    def _on_cmd_vel(self, msg):
+        arm = self.arm
+        v = (msg.linear.x, msg.linear.y, msg.angular.z)
+        if not all(math.isfinite(x) for x in v):
+            self._log.warn(f"{arm.spec.name}:cmd_vel", "/%s/cmd_vel: non-finite twist ignored",
+                           arm.spec.name)
+            return
+        with self._lock:
+            applied = arm.set_twist(*v)
+        if applied != v:
+            self._log.warn(f"{arm.spec.name}:cmd_vel:speed", "/%s/cmd_vel: twist %s scaled to "
+                           "%s (the base's top speed)", arm.spec.name,
+                           tuple(round(x, 3) for x in v), tuple(round(x, 3) for x in applied))

@@ -1,0 +1,13 @@
+"""Names shared by every face and by the client nodes, defined once.
+
+The simulator node must be named ``vrep`` so that everything lands under ``/vrep/`` as V-REP's
+clients expect.
+"""
+from epuck_vrep_compat.scene.vrep_codes import WORLD_FRAME  # noqa: F401  (V-REP's absolute frame)
+
+NODE_NAME = "vrep"
+NODE = "/" + NODE_NAME                  # the simulator node's resolved name
+NODE_NAMESPACE = NODE + "/"             # its private namespace: services, streams, markers
+ODOM_FRAME = "odom"                     # the fixed frame of the e-pucks (and the cell's odom)
+TF_TOPIC = "/tf"
+CLOCK_TOPIC = "/clock"

@@ -1,0 +1,1 @@
+"""The e-puck topic profiles' faces: sensors and commands, TF, cameras, LEDs and markers."""

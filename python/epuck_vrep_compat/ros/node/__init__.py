@@ -1,0 +1,1 @@
+"""The simulator node ``/vrep``: parameters, the step loop over the faces, the master watch."""

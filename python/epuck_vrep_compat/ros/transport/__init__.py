@@ -1,0 +1,1 @@
+"""Getting per-step messages onto the wire: the step batch and pre-serialised layouts."""

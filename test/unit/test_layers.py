@@ -1,0 +1,177 @@
+"""The package's layers import one way (see ARCHITECTURE.md, which this test keeps true).
+
+Walks every module of ``python/epuck_vrep_compat`` with ``ast`` (imports inside functions
+included, since a lazy import is an import all the same) and fails on an import from a higher
+layer, an import between two groups of one layer, an import circle between modules, or a
+private name (leading underscore) imported from another module. The layer order is written
+once, here: LAYERS, bottom first; inside ``ros`` the same again with ROS_LAYERS.
+"""
+import ast
+import os
+from collections import defaultdict
+
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PACKAGE_DIR = os.path.join(REPO, "python", "epuck_vrep_compat")
+PKG = "epuck_vrep_compat"
+
+# Bottom first. A module may import from its own group and from any group of a lower layer.
+LAYERS = (
+    ("_core", "paths", "msg", "srv"),   # the compiled core, data paths, generated messages
+    ("scene",),                         # scene and model files, registry, transforms, V-REP codes
+    ("devices",),                       # what gives registry objects behaviour
+    ("sim",),                           # the simulation and its extension interface
+    ("cell",),                          # the industrial cell, an extension of the simulation
+    ("vrep",),                          # V-REP's API on the simulation, ROS-free
+    ("ros",),                           # the simulator node and its faces
+    ("thesis", "nodes"),                # client nodes: they talk to the simulator through ROS
+)
+ROS_LAYERS = (                          # inside ros/, bottom first
+    ("common",),                        # names defined once, throttled log, parameter checks
+    ("transport", "messages", "face"),  # the step batch and wire layouts, builders, protocol
+    ("epuck", "vrep_plugin", "cell"),   # the faces: never import each other
+    ("node",),                          # the simulator node that holds the faces
+)
+PRIVATE_MODULES_ALLOWED = {f"{PKG}._core"}   # the binding, re-exported by the package
+
+
+def module_files():
+    for folder, _dirs, files in os.walk(PACKAGE_DIR):
+        for name in files:
+            if name.endswith(".py"):
+                path = os.path.join(folder, name)
+                rel = os.path.relpath(path, os.path.dirname(PACKAGE_DIR))[:-3].split(os.sep)
+                if rel[-1] == "__init__":
+                    rel = rel[:-1]
+                yield ".".join(rel), path, name == "__init__.py"
+
+
+def imports_of(module, path, is_package):
+    """(imported module, imported names) for every import of ours in the file."""
+    tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    here = module.split(".") if is_package else module.split(".")[:-1]
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] == PKG:
+                    yield alias.name, ()
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = here[:len(here) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.split(".")[0] == PKG:
+                yield target, tuple(a.name for a in node.names)
+
+
+def resolve(target, names, modules):
+    """The modules an import loads: ``from pkg import module`` names a module."""
+    found = [f"{target}.{n}" for n in names if f"{target}.{n}" in modules]
+    return found or [target]
+
+
+def place(module):
+    """(layer, group) of a module, with ROS's inner layers as fractions."""
+    parts = module.split(".")
+    if len(parts) == 1:
+        return None                                     # the package's __init__
+    top = parts[1]
+    for k, groups in enumerate(LAYERS):
+        if top in groups:
+            if top == "ros" and len(parts) > 2:
+                for j, inner in enumerate(ROS_LAYERS):
+                    if parts[2] in inner:
+                        return k + (j + 1) / 10, f"ros.{parts[2]}"
+                return None, f"ros.{parts[2]}"
+            return k, top
+    return None, top
+
+
+@pytest.fixture(scope="module")
+def graph():
+    files = list(module_files())
+    modules = {m for m, _, _ in files}
+    edges, private = defaultdict(set), []
+    for module, path, is_package in files:
+        for target, names in imports_of(module, path, is_package):
+            for name in names:
+                if name.startswith("_") and f"{target}.{name}" not in PRIVATE_MODULES_ALLOWED \
+                        and target != module:
+                    private.append(f"{module} imports {name} from {target}")
+            for loaded in resolve(target, names, modules):
+                if loaded != module:
+                    edges[module].add(loaded)
+    return modules, edges, private
+
+
+def test_every_module_has_a_layer(graph):
+    modules, _, _ = graph
+    unplaced = sorted(m for m in modules if place(m) is not None and place(m)[0] is None)
+    assert unplaced == [], "modules outside LAYERS/ROS_LAYERS (add their folder there and to " \
+                           "ARCHITECTURE.md): " + ", ".join(unplaced)
+
+
+def test_no_import_from_a_higher_layer_or_sideways(graph):
+    _, edges, _ = graph
+    wrong = []
+    for module, targets in edges.items():
+        here = place(module)
+        for target in targets:
+            there = place(target)
+            if here is None or there is None or here[0] is None or there[0] is None:
+                continue
+            if there[0] > here[0] or (there[0] == here[0] and there[1] != here[1]):
+                wrong.append(f"{module} ({here[1]}) imports {target} ({there[1]})")
+    assert wrong == [], "imports against the layer order:\n" + "\n".join(sorted(wrong))
+
+
+def test_no_import_circle(graph):
+    modules, edges, _ = graph
+    index, low, stack, on_stack, circles, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):                            # Tarjan's strongly connected components
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on_stack.add(v)
+        for w in edges.get(v, ()):
+            if w not in modules:
+                continue
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+    for m in sorted(modules):
+        if m not in index:
+            visit(m)
+    # a package's __init__ importing its own modules is how packages export: not a circle
+    circles = [c for c in circles if not all(m == c[0] or m.startswith(c[0] + ".") for m in c)]
+    assert circles == [], "import circles: " + "; ".join(" <-> ".join(c) for c in circles)
+
+
+def test_no_private_name_imported_from_another_module(graph):
+    _, _, private = graph
+    assert private == [], "\n".join(sorted(private))
+
+
+def test_the_check_sees_a_wrong_import(graph, tmp_path):
+    """The walk itself works: an upward import, a circle and a private name are found."""
+    assert place(f"{PKG}.scene.registry")[0] < place(f"{PKG}.sim.simulation")[0]
+    assert place(f"{PKG}.thesis.hub")[1] != place(f"{PKG}.nodes.wander")[1]
+    source = tmp_path / "m.py"
+    source.write_text("def f():\n    from epuck_vrep_compat.sim.simulation import _x\n")
+    assert list(imports_of(f"{PKG}.scene.m", str(source), False)) == [
+        (f"{PKG}.sim.simulation", ("_x",))]
