@@ -8,7 +8,7 @@ PACKAGE = "epuck_vrep_compat"
 
 
 class PackageNotFound(RuntimeError):
-    pass
+    """ROS cannot find the package (no workspace sourced): its data cannot be found either."""
 
 
 @functools.lru_cache(maxsize=None)

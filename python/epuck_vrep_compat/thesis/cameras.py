@@ -48,6 +48,8 @@ def read_image(client: VrepClient, handle: int, sensor_name: str) -> Optional[Im
 
 
 class CameraNode:
+    """One ceiling camera's node: its vision sensor's image from /vrep, republished."""
+
     def __init__(self, index: int):
         camera = CAMERAS[index]
         self.sensor_name = params.read_name("sensor_name", camera.sensor_name)

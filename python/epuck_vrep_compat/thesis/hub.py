@@ -41,6 +41,8 @@ def look_up(get_handle: Callable[[str], Optional[int]],
 
 
 class Hub:
+    """The HUB node: the robots' and joints' handles, looked up by name, latched."""
+
     def __init__(self):
         self.names: Dict[str, Tuple[str, ...]] = {}
         for label, robot in ROBOTS.items():

@@ -28,6 +28,8 @@ def joint_handles_message(handles: Sequence[int], names: Dict[int, str]) -> vett
 
 
 class JointNames:
+    """One robot's joint-name node: its joints' handles from the HUB, named, latched."""
+
     def __init__(self, label: str):
         self.robot = ROBOTS[label]
         self.rate_hz = params.read_rate_hz()

@@ -73,6 +73,8 @@ def poses_message(joints: Sequence[Joint], poses: Dict[int, Sequence[float]], st
 
 
 class JointPoses:
+    """One robot's pose node: its joints' poses, absolute or relative, every cycle."""
+
     def __init__(self, label: str, absolute: bool):
         self.robot = ROBOTS[label]
         self.absolute = absolute

@@ -74,6 +74,8 @@ def depth_image(resolution: Sequence[int], buffer: Sequence[float], near_m: floa
 
 
 class Kinect:
+    """The Kinect node: depth buffer, depth image and colour image from /vrep."""
+
     def __init__(self):
         self.depth_sensor = params.read_name("depth_sensor", names.KINECT_DEPTH_SENSOR)
         self.rgb_sensor = params.read_name("rgb_sensor", names.KINECT_RGB_SENSOR)

@@ -56,6 +56,8 @@ PROX_SENSOR_NAMES = tuple(f"Proximity_sensor{i}" for i in range(10, 21))
 
 @dataclass(frozen=True)
 class Camera:
+    """One ceiling camera of the cell: its node, its V-REP vision sensor and its topic."""
+
     node: str
     sensor_name: str                # V-REP vision sensor (the thesis's names, as they are)
     topic: str

@@ -51,6 +51,8 @@ def prox_message(sensors: Sequence[Tuple[str, int]], readings) -> vett_proxData:
 
 
 class ProxSensors:
+    """The proxSensors node: the IRB 140's proximity sensors from one group-data call."""
+
     def __init__(self):
         self.sensor_names = params.read_names("sensor_names", PROX_SENSOR_NAMES,
                                               exact_count=False)
