@@ -98,14 +98,14 @@ class LedFace(Face):
         for name, values in state.items():
             frame = self.profile.frame(name, names.BASE_FRAME)
             body = shape_marker(frame, name, 0, Marker.CYLINDER,
-                           (0, 0, 0.5 * model.body_height_m),
-                           (2 * model.body_radius_m, 2 * model.body_radius_m,
-                            model.body_height_m), ColorRGBA(0.9, 0.9, 0.85, 0.9))
+                                (0, 0, 0.5 * model.body_height_m),
+                                (2 * model.body_radius_m, 2 * model.body_radius_m,
+                                 model.body_height_m), ColorRGBA(0.9, 0.9, 0.85, 0.9))
             out.markers.append(body)
             for k, (x, y, z) in enumerate(leds[:9]):
                 color = _LED_ON if values[k] else _LED_OFF
-                out.markers.append(shape_marker(frame, name + "/leds", k, Marker.SPHERE, (x, y, z),
-                                           (0.006, 0.006, 0.006), color))
+                out.markers.append(shape_marker(frame, name + "/leds", k, Marker.SPHERE,
+                                                (x, y, z), (0.006, 0.006, 0.006), color))
         return out
 
     def _arena_markers(self):
@@ -116,8 +116,8 @@ class LedFace(Face):
             shape = Marker.CUBE if obj.properties["shape"] == "box" else Marker.CYLINDER
             r, g, b = obj.properties["color"]
             markers.append(shape_marker(names.ODOM_FRAME, "arena", obj.handle, shape,
-                                   obj.local_position, obj.properties["size"],
-                                   ColorRGBA(r, g, b, 1.0), obj.local_quat))
+                                        obj.local_position, obj.properties["size"],
+                                        ColorRGBA(r, g, b, 1.0), obj.local_quat))
         return markers
 
 
