@@ -30,10 +30,12 @@ import subprocess
 import sys
 import time
 
-import pyenki
+_PROCESS_START_S = time.perf_counter()   # start-up is timed from here, before pyenki loads
+
+import pyenki  # noqa: E402 (timed: importing the binding is part of a pyenki user's start-up)
 
 CM_PER_M = 100.0
-CELL_SIDE_M = 0.15
+CELL_SIDE_M = 0.30      # one robot per cell, as in run_benchmark.py and enki_swarm
 ARENA_MARGIN_M = 0.10
 EPUCK_MAX_SPEED_M_S = 0.128
 
@@ -78,18 +80,18 @@ class BraitenbergEPuck(pyenki.EPuck):
         self.rightSpeed = right_m_s * CM_PER_M
 
 
-def arena_side_m(robot_count):
-    """Side of a square arena holding the robots on a grid, one CELL_SIDE_M cell each."""
-    return CELL_SIDE_M * math.ceil(math.sqrt(robot_count)) + ARENA_MARGIN_M
+def arena_side_m(robot_count, cell_m=CELL_SIDE_M):
+    """Side of a square arena holding the robots on a grid, one cell_m cell each."""
+    return cell_m * math.ceil(math.sqrt(robot_count)) + ARENA_MARGIN_M
 
 
-def build_world(robot_count, controller, seed):
+def build_world(robot_count, controller, seed, cell_m=CELL_SIDE_M):
     """A walled square arena with robots on a grid, headings drawn from a seeded generator.
 
     Returns the world and its robots; the robots must stay referenced from Python because
     pyenki's World does not own the objects added to it.
     """
-    side_m = arena_side_m(robot_count)
+    side_m = arena_side_m(robot_count, cell_m)
     world = pyenki.World(side_m * CM_PER_M, side_m * CM_PER_M)
     world.setRandomSeed(seed)
     headings = random.Random(seed)
@@ -98,8 +100,8 @@ def build_world(robot_count, controller, seed):
     for index in range(robot_count):
         robot = BraitenbergEPuck() if controller == "braitenberg" else pyenki.EPuck()
         row, column = divmod(index, per_row)
-        x_m = ARENA_MARGIN_M / 2 + (column + 0.5) * CELL_SIDE_M
-        y_m = ARENA_MARGIN_M / 2 + (row + 0.5) * CELL_SIDE_M
+        x_m = ARENA_MARGIN_M / 2 + (column + 0.5) * cell_m
+        y_m = ARENA_MARGIN_M / 2 + (row + 0.5) * cell_m
         robot.pos = (x_m * CM_PER_M, y_m * CM_PER_M)
         robot.angle = headings.uniform(-math.pi, math.pi)
         if controller == "none":
@@ -117,10 +119,13 @@ def run_steps(world, step_s, sim_s):
     return steps
 
 
-def measure(robot_count, controller, step_s, sim_s, warmup_s, seed):
-    """One timed run in this process; returns the result record."""
-    world, _robots = build_world(robot_count, controller, seed)
-    run_steps(world, step_s, warmup_s)
+def measure(robot_count, controller, step_s, sim_s, warmup_s, seed, cell_m=CELL_SIDE_M):
+    """One timed run in this process; returns the result record. ``startup_s`` runs from the
+    start of the process (before pyenki is imported) to the end of the first step."""
+    world, _robots = build_world(robot_count, controller, seed, cell_m)
+    world.step(step_s)
+    startup_s = time.perf_counter() - _PROCESS_START_S
+    run_steps(world, step_s, max(0.0, warmup_s - step_s))
     start = time.perf_counter()
     steps = run_steps(world, step_s, sim_s)
     wall_s = time.perf_counter() - start
@@ -135,8 +140,10 @@ def measure(robot_count, controller, step_s, sim_s, warmup_s, seed):
         "warmup_s": warmup_s,
         "wall_s": round(wall_s, 6),
         "rtf": round(timed_sim_s / wall_s, 6),
+        "startup_s": round(startup_s, 6),
         "peak_rss_mb": round(peak_kib / 1024.0, 1),
-        "arena_side_m": round(arena_side_m(robot_count), 3),
+        "arena_side_m": round(arena_side_m(robot_count, cell_m), 3),
+        "cell_m": cell_m,
         "seed": seed,
     }
 
@@ -145,7 +152,7 @@ def run_in_child(args, controller):
     """Run one controller mode in a fresh interpreter so its peak memory is its own."""
     command = [sys.executable, __file__, "--robots", str(args.robots),
                "--sim-seconds", str(args.sim_seconds), "--warmup-seconds", str(args.warmup_seconds),
-               "--step", str(args.step), "--seed", str(args.seed),
+               "--step", str(args.step), "--seed", str(args.seed), "--cell-m", str(args.cell_m),
                "--controller", controller, "--json"]
     output = subprocess.run(command, check=True, stdout=subprocess.PIPE, text=True).stdout
     return json.loads(output)
@@ -161,13 +168,17 @@ def parse_args(argv):
     parser.add_argument("--step", type=float, default=0.01, help="simulation step (s)")
     parser.add_argument("--controller", choices=CONTROLLERS + ("both",), default="braitenberg",
                         help="Python Braitenberg controller, none (constant speeds), or both")
+    parser.add_argument("--cell-m", type=float, default=CELL_SIDE_M,
+                        help="side of each robot's square cell on the start grid (m)")
     parser.add_argument("--seed", type=int, default=1, help="seed for headings and Enki's noise")
     parser.add_argument("--json", action="store_true", help="print one JSON line per run")
     args = parser.parse_args(argv)
     if args.robots < 1:
         parser.error("--robots must be at least 1")
-    if args.step <= 0.0 or args.sim_seconds <= 0.0 or args.warmup_seconds < 0.0:
-        parser.error("--step and --sim-seconds must be positive, --warmup-seconds not negative")
+    if args.step <= 0.0 or args.sim_seconds <= 0.0 or args.warmup_seconds < 0.0 \
+            or args.cell_m <= 0.0:
+        parser.error("--step, --sim-seconds and --cell-m must be positive, --warmup-seconds "
+                     "not negative")
     return args
 
 
@@ -177,13 +188,13 @@ def main(argv=None):
         results = [run_in_child(args, controller) for controller in CONTROLLERS]
     else:
         results = [measure(args.robots, args.controller, args.step, args.sim_seconds,
-                           args.warmup_seconds, args.seed)]
+                           args.warmup_seconds, args.seed, args.cell_m)]
     for result in results:
         if args.json:
             print(json.dumps(result), flush=True)
         else:
-            print("enki {controller:<11} N={robots:<5} rtf={rtf:10.3f} "
-                  "wall={wall_s:.2f}s peak={peak_rss_mb} MB".format(**result), flush=True)
+            print("enki {controller:<11} N={robots:<5} rtf={rtf:10.3f} wall={wall_s:.2f}s "
+                  "startup={startup_s:.3f}s peak={peak_rss_mb} MB".format(**result), flush=True)
 
 
 if __name__ == "__main__":

@@ -1,14 +1,20 @@
 #!/usr/bin/python3
-"""Real-time factor and peak memory of epuck_vrep_compat against Enki, in one run.
+"""Real-time factor, start-up time and peak memory of epuck_vrep_compat against Enki, in one run.
 
-For each N: a square walled arena sized like Enki's (0.15 m per robot on a grid), N e-pucks,
-noise on, every topic advertised, ``rtf:=0`` (as fast as possible), 50 ms step (V-REP's
-default; Enki runs its 10 ms step: the real-time factor compares simulated seconds per wall
-second, whatever the step). Every robot gets one constant forward ``cmd_vel`` (watchdog off)
-and drives into walls and neighbours, so collisions and IR cones are exercised.
+For each N: a square walled arena, one robot per ``--cell-m`` (0.30 m) square cell on a grid, N
+e-pucks, noise on, every topic advertised, ``rtf:=0`` (as fast as possible), 50 ms step (V-REP's
+default). Every robot gets one constant forward ``cmd_vel`` (watchdog off) and drives into walls
+and neighbours, so collisions and IR cones are exercised. Scenarios: (a) nobody subscribed; (b)
+one separate C++ process (``subscribe_all``) takes every topic of every robot and ``/tf``.
+Memory is the simulator process's peak RSS (VmHWM). Start-up: from starting the simulator
+process until every robot's topics are registered with the master (``topics_s``) and until the
+first ``/clock`` message arrives (``first_step_s``); ``startup_s`` is the later of the two.
 
-Scenarios: (a) nobody subscribed; (b) one separate C++ process (``subscribe_all``) takes every
-topic of every robot and ``/tf``. Memory is the simulator process's peak RSS (VmHWM).
+Peers, same arena and robots: Enki's C++ library driven from C++ (``build/enki_swarm``: 8 IR
+sensors, Braitenberg avoidance in C++, no camera) at Enki's 10 ms step and at our 50 ms step,
+its start-up timed from its process start to the end of its first step; and Debian's pyenki
+(``enki_peer.py``: Python controller, a camera it cannot switch off) at 10 ms. The table's
+ratios compare ours with Enki C++ at the same 50 ms step.
 Requires a built workspace (``tools/setup``) sourced, and ``bench/build.sh`` run.
 
     bench/run_benchmark.py --robots 1 10 100 1000 --json results/bench.jsonl
@@ -18,19 +24,26 @@ import json
 import math
 import os
 import platform
+import re
 import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
+import rosgraph
 import rospy
 from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 
+from bench_table import markdown_table
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-CELL_SIDE_M = 0.15
+CELL_SIDE_M = 0.30
 ARENA_MARGIN_M = 0.10
+SIM_NODE = "/vrep"
+PER_ROBOT_TOPIC = re.compile(r"^/ePuck(\d+)/")
 
 
 def free_port():
@@ -39,8 +52,8 @@ def free_port():
         return s.getsockname()[1]
 
 
-def scene_file(n):
-    side = CELL_SIDE_M * math.ceil(math.sqrt(n)) + ARENA_MARGIN_M
+def scene_file(n, cell_m):
+    side = cell_m * math.ceil(math.sqrt(n)) + ARENA_MARGIN_M
     f = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
     f.write(f"arena:\n  size_m: [{side}, {side}]\n")
     f.close()
@@ -58,9 +71,12 @@ def peak_rss_mb(pid):
 class ClockWatch:
     def __init__(self):
         self.sim_s = 0.0
+        self.first_at = None
         rospy.Subscriber("/clock", Clock, self._cb, queue_size=1)
 
     def _cb(self, msg):
+        if self.first_at is None:
+            self.first_at = time.monotonic()
         self.sim_s = msg.clock.to_sec()
 
     def rtf_over(self, wall_s):
@@ -69,25 +85,54 @@ class ClockWatch:
         return (self.sim_s - s0) / (time.monotonic() - t0)
 
 
-def run_ours(n, measure_s, subscribe):
+def robots_registered(master, n):
+    """True once every robot has as many topics (published and subscribed by the simulator)
+    registered with the master as the robot with the most, and that is at least nine (eight
+    ranges and the IMU)."""
+    publishers, subscribers, _services = master.getSystemState()
+    counts = [0] * n
+    for topic, nodes in publishers + subscribers:
+        match = PER_ROBOT_TOPIC.match(topic)
+        if match and SIM_NODE in nodes and int(match.group(1)) < n:
+            counts[int(match.group(1))] += 1
+    return min(counts) == max(counts) >= 9
+
+
+def watch_registration(n, started_at, result, timeout_s=600.0):
+    """Poll the master until every robot's topics are registered; store the time taken."""
+    master = rosgraph.Master("/bench_registration_watch")
+    while time.monotonic() - started_at < timeout_s:
+        if robots_registered(master, n):
+            result["topics_s"] = round(time.monotonic() - started_at, 3)
+            return
+        time.sleep(0.05)
+
+
+def run_ours(n, measure_s, subscribe, cell_m):
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
     master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    world = scene_file(n)
+    world = scene_file(n, cell_m)
     sim = sub = None
     try:
         time.sleep(1.0)
+        rospy.init_node("bench_driver", anonymous=True, disable_signals=True)
+        clock = ClockWatch()
+        registration = {}
+        started_at = time.monotonic()
+        watcher = threading.Thread(target=watch_registration, args=(n, started_at, registration),
+                                   daemon=True)
+        watcher.start()
         sim = subprocess.Popen(["rosrun", "epuck_vrep_compat", "epuck_sim", f"_n:={n}",
                                 f"_world:={world}", "_rtf:=0.0", "_cmd_timeout_s:=0.0",
                                 "_noise:=true"], env=env, stdout=subprocess.DEVNULL,
                                stderr=subprocess.DEVNULL)
-        rospy.init_node("bench_driver", anonymous=True, disable_signals=True)
-        clock = ClockWatch()
         deadline = time.monotonic() + 600
         while clock.sim_s == 0.0 and time.monotonic() < deadline:
-            time.sleep(0.1)
+            time.sleep(0.01)
+        watcher.join()
         pubs = [rospy.Publisher(f"/ePuck{i}/cmd_vel", Twist, queue_size=1, latch=True)
                 for i in range(n)]
         cmd = Twist()
@@ -102,7 +147,11 @@ def run_ours(n, measure_s, subscribe):
         rtf = clock.rtf_over(measure_s)
         result = {"sim": "epuck_vrep_compat", "robots": n, "step_s": 0.05,
                   "scenario": "b_all_subscribed" if subscribe else "a_none_subscribed",
-                  "rtf": round(rtf, 3), "peak_rss_mb": round(peak_rss_mb(sim.pid), 1)}
+                  "rtf": round(rtf, 3), "peak_rss_mb": round(peak_rss_mb(sim.pid), 1),
+                  "cell_m": cell_m, "first_step_s": round(clock.first_at - started_at, 3),
+                  "topics_s": registration.get("topics_s")}
+        if result["topics_s"] is not None:
+            result["startup_s"] = max(result["first_step_s"], result["topics_s"])
         if sub is not None:
             sub.send_signal(2)
             try:
@@ -127,11 +176,29 @@ def run_ours(n, measure_s, subscribe):
         os.unlink(world)
 
 
-def run_enki(n, sim_seconds):
+def run_enki_cpp(n, step_s, sim_seconds, cell_m):
+    """Enki's C++ library driven from C++ (bench/build/enki_swarm), one JSON record."""
+    out = subprocess.run([os.path.join(HERE, "build", "enki_swarm"), "--robots", str(n),
+                          "--step", str(step_s), "--sim-seconds", str(sim_seconds),
+                          "--cell-m", str(cell_m)],
+                         capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def run_pyenki(n, sim_seconds, cell_m):
+    """Debian's pyenki at Enki's 10 ms step, Python Braitenberg and no controller."""
     out = subprocess.run([sys.executable, os.path.join(HERE, "enki_peer.py"), "--robots", str(n),
-                          "--sim-seconds", str(sim_seconds), "--controller", "both", "--json"],
+                          "--sim-seconds", str(sim_seconds), "--controller", "both", "--json",
+                          "--cell-m", str(cell_m)],
                          capture_output=True, text=True, check=True).stdout
     return [json.loads(line) for line in out.splitlines() if line.startswith("{")]
+
+
+def run_peers(n, cell_m):
+    """Enki C++ at 10 ms and 50 ms, then pyenki; each long enough for several wall seconds."""
+    rows = [run_enki_cpp(n, step_s, 5.0 if n >= 1000 else 20.0, cell_m)
+            for step_s in (0.01, 0.05)]
+    return rows + run_pyenki(n, 2.0 if n >= 1000 else 20.0, cell_m)
 
 
 def machine():
@@ -143,21 +210,26 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--robots", type=int, nargs="+", default=[1, 10, 100, 1000])
     ap.add_argument("--measure-s", type=float, default=10.0)
+    ap.add_argument("--cell-m", type=float, default=CELL_SIDE_M,
+                    help="side of each robot's square start cell (m), for every simulator")
+    ap.add_argument("--peers-only", action="store_true",
+                    help="run only Enki C++ and pyenki (to check the peers quickly)")
     ap.add_argument("--json", help="append JSON lines here")
     args = ap.parse_args()
     rows = [{"machine": machine()}]
     for n in args.robots:
-        for subscribe in (False, True):
+        for subscribe in () if args.peers_only else (False, True):
             # each scenario in its own process: rospy allows one init_node per process
             out = subprocess.run([sys.executable, __file__, "--one", str(n), str(int(subscribe)),
-                                  str(args.measure_s)], capture_output=True, text=True)
+                                  str(args.measure_s), str(args.cell_m)],
+                                 capture_output=True, text=True)
             rows.append(json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0
                         else {"robots": n, "error": out.stderr[-500:]})
             print(json.dumps(rows[-1]), flush=True)
-        enki_seconds = 2.0 if n >= 1000 else 20.0
-        for r in run_enki(n, enki_seconds):
+        for r in run_peers(n, args.cell_m):
             rows.append(r)
             print(json.dumps(r), flush=True)
+    print(markdown_table(rows), flush=True)
     if args.json:
         with open(args.json, "a") as f:
             for r in rows:
@@ -165,7 +237,8 @@ def main():
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 5 and sys.argv[1] == "--one":
-        print(json.dumps(run_ours(int(sys.argv[2]), float(sys.argv[4]), bool(int(sys.argv[3])))))
+    if len(sys.argv) == 6 and sys.argv[1] == "--one":
+        print(json.dumps(run_ours(int(sys.argv[2]), float(sys.argv[4]), bool(int(sys.argv[3])),
+                                  float(sys.argv[5]))))
     else:
         main()
