@@ -35,6 +35,7 @@ from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
+from epuck_vrep_compat.ros.transport.registration import BulkRegistration
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
@@ -228,7 +229,9 @@ def main():
     MasterWatch(first_master_pid)
     try:
         params = read_params(data_path("worlds", "arena.yaml"))
-        node = SimulatorNode(params, data_path("models"))
+        # the master learns of the topics from a background thread while the node steps
+        with BulkRegistration():
+            node = SimulatorNode(params, data_path("models"))
     except (ParamError, SceneError, PackageNotFound) as e:
         rospy.logfatal("epuck_sim cannot start: %s", e)
         time.sleep(0.5)          # let the log line reach /rosout

@@ -1,0 +1,119 @@
+"""BulkRegistration: rospy's registrations leave the creating thread and reach the master in
+order, in multicall batches, with subscribers' answers handed back to rospy (no master: a fake
+registrar and a fake XML-RPC master)."""
+import threading
+
+from rospy.impl.registration import Registration
+from rospy.impl.statistics import SubscriberStatisticsLogger
+
+from epuck_vrep_compat.ros.transport.registration import BulkRegistration
+
+TIMEOUT_S = 60.0
+
+
+class FakeRegistrar:
+    """The parts of rospy's RegManager that BulkRegistration uses."""
+
+    uri = "http://node:1234/"
+    master_uri = "http://master:11311/"
+
+    def __init__(self):
+        self.synchronous = []          # registrations rospy itself made
+        self.updates = []              # (topic, publisher URIs) handed back
+
+    def reg_added(self, name, type_or_uri, reg_type):
+        self.synchronous.append(("add", name))
+
+    def reg_removed(self, name, type_or_uri, reg_type):
+        self.synchronous.append(("remove", name))
+
+    def publisher_update(self, name, uris):
+        self.updates.append((name, uris))
+
+
+class FakeMaster:
+    """Answers system.multicall like rosmaster; blocks while ``gate`` is clear; fails the
+    first ``failures`` calls like an unreachable master."""
+
+    def __init__(self, failures=0):
+        self.gate = threading.Event()
+        self.gate.set()
+        self.batches = []
+        self.failures = failures
+        self.system = self
+
+    def multicall(self, calls):
+        self.gate.wait(TIMEOUT_S)
+        if self.failures:
+            self.failures -= 1
+            raise ConnectionRefusedError("master not there")
+        self.batches.append([(c["methodName"], *c["params"]) for c in calls])
+        return [[[1, "ok", ["http://pub:1/"] if c["methodName"] == "registerSubscriber" else 1]]
+                for c in calls]
+
+
+def register(registrar, count, reg_type=Registration.PUB):
+    for i in range(count):
+        registrar.reg_added(f"/t{i}", "std_msgs/Empty", reg_type)
+
+
+def test_creating_does_not_wait_for_the_master_and_order_is_kept():
+    registrar, master = FakeRegistrar(), FakeMaster()
+    master.gate.clear()                               # the master does not answer yet
+    bulk = BulkRegistration(registrar, batch_size=4, master=master)
+    with bulk:
+        register(registrar, 10)
+        registrar.reg_removed("/t3", "std_msgs/Empty", Registration.PUB)
+    assert bulk.sent == 0 and registrar.synchronous == []
+    master.gate.set()
+    assert bulk.wait(TIMEOUT_S)
+    sent = [call for batch in master.batches for call in batch]
+    assert [len(b) for b in master.batches] == [4, 4, 3]
+    assert [c[0] for c in sent] == ["registerPublisher"] * 10 + ["unregisterPublisher"]
+    assert [c[2] for c in sent] == [f"/t{i}" for i in range(10)] + ["/t3"]
+    assert sent[0][3:] == ("std_msgs/Empty", FakeRegistrar.uri)
+    assert sent[-1][3:] == (FakeRegistrar.uri,)
+    assert bulk.sent == 11
+
+
+def test_rospy_registers_itself_again_once_the_queue_is_empty():
+    registrar, master = FakeRegistrar(), FakeMaster()
+    bulk = BulkRegistration(registrar, master=master)
+    with bulk:
+        register(registrar, 2)
+    assert bulk.wait(TIMEOUT_S)
+    registrar.reg_added("/later", "std_msgs/Empty", Registration.PUB)
+    assert registrar.synchronous == [("add", "/later")]
+    assert sum(len(b) for b in master.batches) == 2
+
+
+def test_subscribers_get_their_publishers_and_services_their_uri():
+    registrar, master = FakeRegistrar(), FakeMaster()
+    bulk = BulkRegistration(registrar, master=master)
+    with bulk:
+        registrar.reg_added("/cmd", "geometry_msgs/Twist", Registration.SUB)
+        registrar.reg_added("/srv", "rosrpc://node:5/", Registration.SRV)
+        registrar.reg_removed("/srv", "rosrpc://node:5/", Registration.SRV)
+    assert bulk.wait(TIMEOUT_S)
+    assert registrar.updates == [("/cmd", ["http://pub:1/"])]
+    sent = master.batches[0]
+    assert sent[1][2:] == ("/srv", "rosrpc://node:5/", FakeRegistrar.uri)
+    assert sent[2][0] == "unregisterService" and sent[2][2:] == ("/srv", "rosrpc://node:5/")
+
+
+def test_an_unreachable_master_is_retried():
+    registrar, master = FakeRegistrar(), FakeMaster(failures=2)
+    bulk = BulkRegistration(registrar, master=master)
+    with bulk:
+        register(registrar, 3)
+    assert bulk.wait(TIMEOUT_S)
+    assert master.failures == 0
+    assert [c[2] for c in master.batches[0]] == ["/t0", "/t1", "/t2"]
+
+
+def test_statistics_flag_is_read_once_and_rospys_check_comes_back():
+    original = SubscriberStatisticsLogger.__dict__["is_enabled"]
+    with BulkRegistration(FakeRegistrar(), master=FakeMaster()):
+        assert SubscriberStatisticsLogger.__dict__["is_enabled"] is not original
+        assert SubscriberStatisticsLogger.is_enabled() is False
+    assert SubscriberStatisticsLogger.__dict__["is_enabled"] is original
