@@ -3,7 +3,7 @@ order, in multicall batches, with subscribers' answers handed back to rospy (no 
 registrar and a fake XML-RPC master)."""
 import threading
 
-from rospy.impl.registration import Registration
+from rospy.impl.registration import Registration, get_topic_manager
 from rospy.impl.statistics import SubscriberStatisticsLogger
 
 from epuck_vrep_compat.ros.transport.registration import BulkRegistration
@@ -111,9 +111,12 @@ def test_an_unreachable_master_is_retried():
     assert [c[2] for c in master.batches[0]] == ["/t0", "/t1", "/t2"]
 
 
-def test_statistics_flag_is_read_once_and_rospys_check_comes_back():
+def test_rospys_per_topic_checks_pause_while_topics_are_created_and_come_back():
     original = SubscriberStatisticsLogger.__dict__["is_enabled"]
+    topics = get_topic_manager()
     with BulkRegistration(FakeRegistrar(), master=FakeMaster()):
         assert SubscriberStatisticsLogger.__dict__["is_enabled"] is not original
         assert SubscriberStatisticsLogger.is_enabled() is False
+        assert "check_all" in vars(topics)
     assert SubscriberStatisticsLogger.__dict__["is_enabled"] is original
+    assert "check_all" not in vars(topics)

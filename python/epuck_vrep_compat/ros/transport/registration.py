@@ -6,8 +6,12 @@ made by the thread that creates it and waited for: a thousand robots' 15 000 top
 active: each registration is queued in order and a background thread sends the queue to the
 master in ``system.multicall`` batches (the master's XML-RPC server accepts them), so creating
 a publisher costs microseconds and the simulation can step while the master learns of it.
-For the same reason rospy's check of ``/enable_statistics`` (one parameter-server call per new
-subscriber) is answered, while the context is active, from one read made on entry.
+For the same reason, while the context is active, rospy's check of ``/enable_statistics`` (one
+parameter-server call per new subscriber) is answered from one read made on entry, and rospy's
+registration thread stops re-checking every topic's connections twice a second under the lock
+that creating a topic takes (with thousands of topics it held that lock for a third of the
+start-up); dead connections are still dropped when a write to them fails, and the checks
+resume on exit.
 
 Answers are handled as rospy's ``RegManager`` does: a subscriber's current publishers are
 handed to rospy, which connects to them; a refused registration is logged as fatal. While the
@@ -23,7 +27,8 @@ import time
 import xmlrpc.client
 
 import rospy
-from rospy.impl.registration import RegManager, Registration, get_registration_listeners
+from rospy.impl.registration import (RegManager, Registration, get_registration_listeners,
+                                     get_topic_manager)
 from rospy.impl.statistics import SubscriberStatisticsLogger
 
 from epuck_vrep_compat.ros.common.log import ThrottledLog
@@ -77,6 +82,7 @@ class BulkRegistration:
             self._statistics_check = vars(SubscriberStatisticsLogger)["is_enabled"]
             statistics = bool(SubscriberStatisticsLogger.is_enabled())
             SubscriberStatisticsLogger.is_enabled = classmethod(lambda cls: statistics)
+            get_topic_manager().check_all = lambda: None
             with self._lock:
                 self._deferring = True
                 self._registrar.reg_added = self._added
@@ -84,9 +90,10 @@ class BulkRegistration:
         return self
 
     def __exit__(self, *exc):
-        if self._statistics_check is not None:                # rospy's own check again
+        if self._statistics_check is not None:                # rospy's own checks again
             SubscriberStatisticsLogger.is_enabled = self._statistics_check
             self._statistics_check = None
+            vars(get_topic_manager()).pop("check_all", None)
         with self._lock:
             self._deferring = False
             if self._registrar is None:
