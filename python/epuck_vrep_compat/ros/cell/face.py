@@ -26,9 +26,9 @@ class CellFace(Face):
 
     ``streams``: the ``/vrep`` plugin's :class:`VrepStreams`, where the blob streams are
     enabled (as the thesis's script called simRosEnablePublisher); ``lock``: the simulation
-    lock commands take."""
+    lock commands take; ``static_tf``: the node's ``/tf_static``."""
 
-    def __init__(self, sim, streams, lock):
+    def __init__(self, sim, streams, lock, static_tf):
         self.sim = sim
         self.cell = sim.cell
         self._streams = streams
@@ -38,8 +38,8 @@ class CellFace(Face):
         self._laser = LaserTopic(self.cell) if self.cell.laser is not None else None
         log = ThrottledLog()
         self._arms = {arm.spec.name: ArmTopics(arm, lock, log) for arm in self.cell.arms}
-        self._transforms = CellTransforms(sim)
-        self._rviz = CellRviz(sim)
+        self._transforms = CellTransforms(sim, static_tf)
+        self._rviz = CellRviz(sim, static_tf)
 
     def sync(self):
         """Follow the cell's objects after a removal (between steps, under the lock): the
@@ -74,6 +74,7 @@ class CellFace(Face):
         if not self._blob_enabled and self._backend.running:
             self._enable_blob_streams()
         batch, stamp = step.batch, step.stamp
+        self._transforms.update_static(step.secs, step.nsecs)
         if batch.wanted(step.tf):
             batch.add(step.tf, self._transforms.message(step.secs, step.nsecs))
         if self._laser is not None:

@@ -4,13 +4,12 @@ frame-locked markers for the operator, the laser, the cameras and the Kinect); a
 ``world -> odom`` identity, so the scene's static objects (``/vrep/markers``, in ``odom``) and
 any e-puck join the cell's tree."""
 import rospy
-import tf2_ros
-from geometry_msgs.msg import TransformStamped
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
 from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE, ODOM_FRAME, WORLD_FRAME
 from epuck_vrep_compat.ros.messages import shape_marker
+from epuck_vrep_compat.ros.transport.static_tf import static_transform
 
 CELL_MARKER_TOPIC = NODE_NAMESPACE + "cell_markers"
 _DEVICE_COLOR = ColorRGBA(0.15, 0.15, 0.15, 1.0)
@@ -19,16 +18,12 @@ _DEVICE_COLOR = ColorRGBA(0.15, 0.15, 0.15, 1.0)
 class CellRviz:
     """Robot descriptions, the static ``world -> odom`` and the cell's markers."""
 
-    def __init__(self, sim):
+    def __init__(self, sim, static_tf):
         self._sim = sim
         for arm in sim.cell.arms:
             rospy.set_param(_description_param(arm.spec.name), arm.description())
-        self._static_tf = tf2_ros.StaticTransformBroadcaster()
-        odom = TransformStamped()
-        odom.header.frame_id = WORLD_FRAME
-        odom.child_frame_id = ODOM_FRAME
-        odom.transform.rotation.w = 1.0
-        self._static_tf.sendTransform(odom)
+        static_tf.set("cell_odom", [static_transform(WORLD_FRAME, ODOM_FRAME, (0, 0, 0),
+                                                     (0, 0, 0, 1))])
         self._markers = rospy.Publisher(CELL_MARKER_TOPIC, MarkerArray, queue_size=1,
                                         latch=True)
         self.publish_markers()

@@ -10,4 +10,5 @@ NODE = "/" + NODE_NAME                  # the simulator node's resolved name
 NODE_NAMESPACE = NODE + "/"             # its private namespace: services, streams, markers
 ODOM_FRAME = "odom"                     # the fixed frame of the e-pucks (and the cell's odom)
 TF_TOPIC = "/tf"
+TF_STATIC_TOPIC = "/tf_static"            # latched: frames fixed to their parent
 CLOCK_TOPIC = "/clock"

@@ -1,15 +1,20 @@
-"""The TF tree of every robot, sent as one ``/tf`` message per step, as V-REP's script does.
+"""The TF tree of every robot: what moves in one ``/tf`` message per step, the rest latched.
 
 Per robot: ``odom -> <robot>/base_link`` (ground truth in the ``vrep`` profile, wheel odometry in
 ``epuck_driver``), then under base_link: ``base_prox0..7`` (V-REP's ``dummy_proxSensor``
 objects), ``left_wheel``/``right_wheel`` (turning with the wheels), ``body_top`` (``ePuck_ring``),
 ``camera_optical`` and, for the driver profile, ``base_laser``. Fixed offsets are read once from
 the scene registry, so the frames and the simulated parts cannot disagree.
+
+Only ``base_link`` and the wheels move: they go on ``/tf`` every step (V-REP's script sent all
+frames there). The frames fixed to base_link go once on the latched ``/tf_static``, as
+``robot_state_publisher`` sends a robot's fixed joints, and again whenever robots come or go.
 """
 import numpy as np
 
 from epuck_vrep_compat.ros.epuck import names
 from epuck_vrep_compat.ros.face import Face, Step
+from epuck_vrep_compat.ros.transport.static_tf import static_transform
 from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
 from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 
@@ -37,18 +42,24 @@ def robot_child_frames(profile, sim, index):
 
 
 class TfFace(Face):
-    """The e-pucks' TF tree: one ``/tf`` message per step, through the shared batch."""
+    """The e-pucks' TF tree: the moving frames in one ``/tf`` message per step, through the
+    shared batch; the fixed ones on ``static_tf`` (the node's
+    :class:`~epuck_vrep_compat.ros.transport.static_tf.StaticTransforms`)."""
 
-    def __init__(self, profile, sim):
+    STATIC_PART = "epucks"
+
+    def __init__(self, profile, sim, static_tf):
         self._profile = profile
         self._sim = sim
+        self._static_tf = static_tf
         self.sync()
 
     def sync(self):
         """Lay out the frames of the robots there are now (after robots came or went)."""
         profile, sim = self._profile, self._sim
         frames, translations, rotations = [], [], []
-        base_rows, wheel_rows = [], []
+        base_rows, wheel_rows, static = [], [], []
+        stamp = divmod(int(round(sim.time_s * 1e9)), 1_000_000_000)
         for i, robot in enumerate(sim.robot_names):
             base = profile.frame(robot, names.BASE_FRAME)
             base_rows.append(len(frames))
@@ -56,12 +67,15 @@ class TfFace(Face):
             translations.append(np.zeros(3))
             rotations.append(np.array([0, 0, 0, 1.0]))
             for child, translation, quat in robot_child_frames(profile, sim, i):
-                if quat is None:
-                    wheel_rows.append(len(frames))
-                    quat = np.array([0, 0, 0, 1.0])
+                if quat is not None:
+                    static.append(static_transform(base, profile.frame(robot, child),
+                                                   translation, quat, *stamp))
+                    continue
+                wheel_rows.append(len(frames))
                 frames.append((base, profile.frame(robot, child)))
                 translations.append(np.asarray(translation, dtype=float))
-                rotations.append(np.asarray(quat, dtype=float))
+                rotations.append(np.array([0, 0, 0, 1.0]))
+        self._static_tf.set(self.STATIC_PART, static)
         self._wire = TransformBatchWire(frames)
         self._translations = np.array(translations).reshape(-1, 3)
         self._rotations = np.array(rotations).reshape(-1, 4)
@@ -77,7 +91,7 @@ class TfFace(Face):
                 step.batch.add(step.tf, transforms)
 
     def message(self, secs: int, nsecs: int):
-        """This step's transforms of every robot; None while there is no robot."""
+        """This step's moving transforms of every robot; None while there is no robot."""
         if not self.frames:
             return None
         swarm = self._sim.swarm

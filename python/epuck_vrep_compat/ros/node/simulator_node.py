@@ -36,6 +36,7 @@ from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
 from epuck_vrep_compat.ros.transport.registration import BulkRegistration
+from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
@@ -71,10 +72,11 @@ class SimulatorNode:
         self.control.listeners.append(self._on_state)
         self._clock = synchronous_publisher(CLOCK_TOPIC, Clock)
         self._tf_pub = synchronous_publisher(TF_TOPIC, TFMessage)
+        self._tf_static = StaticTransforms()
         self.leds = LedFace(profile, self.sim)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
-        self.tf = TfFace(profile, self.sim)
+        self.tf = TfFace(profile, self.sim, self._tf_static)
         self.cameras = CameraFace(profile, self.sim)
         models = ModelLibrary(models_dir) if models_dir else None
         self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models),
@@ -83,7 +85,7 @@ class SimulatorNode:
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
-            self.cell = CellFace(self.sim, self.vrep.streams, self._lock)
+            self.cell = CellFace(self.sim, self.vrep.streams, self._lock, self._tf_static)
         # publication order: the cell enables the blob streams before /vrep publishes streams
         self.faces = [f for f in (self.tf, self.epucks, self.cell, self.vrep, self.cameras,
                                   self.leds) if f is not None]
