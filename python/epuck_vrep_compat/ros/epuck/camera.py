@@ -3,6 +3,8 @@
 Unlike the V-REP script (frame id ``"a"``, bottom row first, ``is_bigendian`` 1) the image is
 top row first, frame ``<robot>/camera_optical``, with a latched ``camera_info`` beside it.
 The image publisher has a queue of 1: a slow viewer drops frames instead of stalling the step.
+A step looks only at the cameras someone subscribes to (recounted on subscribe events), so a
+thousand unwatched cameras cost nothing per step.
 :meth:`CameraFace.sync` follows robots added to and removed from the simulation.
 """
 import rospy
@@ -11,6 +13,20 @@ from sensor_msgs.msg import CameraInfo, Image
 from epuck_vrep_compat.ros.epuck import names
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info, fill_image
+
+
+class _Watch(rospy.SubscribeListener):
+    """Marks the face's list of watched cameras stale on every (un)subscription."""
+
+    def __init__(self, face):
+        super().__init__()
+        self._face = face
+
+    def peer_subscribe(self, topic_name, topic_publish, peer_publish):
+        self._face.watched_stale = True
+
+    def peer_unsubscribe(self, topic_name, num_peers):
+        self._face.watched_stale = True
 
 
 class CameraFace(Face):
@@ -22,6 +38,9 @@ class CameraFace(Face):
         self.sim = sim
         self._period_s = 1.0 / sim.camera.rate_hz
         self._cameras = {}            # robot name -> _Camera
+        self._watch = _Watch(self)
+        self._watched = []            # the cameras with a subscriber, as of the last recount
+        self.watched_stale = True
         self.sync()
 
     def sync(self):
@@ -32,12 +51,18 @@ class CameraFace(Face):
             self._cameras.pop(name).close()
         for name, robot in zip(names_now, self.sim.robots):
             if name not in self._cameras:
-                self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot)
+                self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot,
+                                              self._watch)
+        self.watched_stale = True
 
     def publish(self, step: Step):
         """Render and publish each camera that is due and has a subscriber."""
+        if self.watched_stale:
+            self.watched_stale = False      # first: an event during the recount marks it again
+            self._watched = [c for c in self._cameras.values()
+                             if c.image.impl is not None and c.image.impl.has_connections()]
         now = self.sim.time_s
-        for camera in self._cameras.values():
+        for camera in self._watched:
             if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
                 continue
             camera.next_due_s = now + self._period_s
@@ -47,11 +72,12 @@ class CameraFace(Face):
 class _Camera:
     """One robot's camera: its vision sensor, image topic and latched camera_info."""
 
-    def __init__(self, profile, spec, name, robot):
+    def __init__(self, profile, spec, name, robot, watch):
         self.sensor = robot.parts["camera"].properties["vision"]
         self.frame = profile.frame(name, names.CAMERA_FRAME)
         self.next_due_s = 0.0
-        self.image = rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1)
+        self.image = rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1,
+                                     subscriber_listener=watch)
         self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
                                     queue_size=1, latch=True)
         self.info.publish(camera_info(spec.width, spec.height, spec.vertical_fov_rad,

@@ -163,7 +163,8 @@ class SimulatorNode:
             self._step_failed(traceback.format_exc())
             return False
         step = self._step_info()
-        self._batch.add(self._clock, Clock(clock=step.stamp))
+        if self._batch.wanted(self._clock):
+            self._batch.add(self._clock, Clock(clock=step.stamp))
         for face in self.faces:
             face.publish(step)
         return True

@@ -46,8 +46,10 @@ class VrepFace(Face):
         return msg
 
     def publish(self, step: Step):
-        """After a step: info, then every enabled stream (one way: state -> ROS)."""
-        step.batch.add(self._info, self.info_message(step.stamp))
+        """After a step: info (when someone listens), then every enabled stream (one way:
+        state -> ROS)."""
+        if step.batch.wanted(self._info):
+            step.batch.add(self._info, self.info_message(step.stamp))
         self.streams.publish(step.batch, step.secs, step.nsecs)
 
     def publish_idle(self, step: Step):
