@@ -361,3 +361,22 @@ def detect_blobs(
     0..1, x from the left, y from the BOTTOM), width, height (that rectangle's sides over W and
     H, measured between pixel centres as V-REP does)]. Releases the GIL.
     """
+
+class BatchWriter:
+    """Non-blocking batched writes to many sockets, each with a backlog bounded by
+    max_backlog_bytes (oldest whole batches dropped, never a partly sent one)."""
+    def __init__(self, max_backlog_bytes: int) -> None: ...
+    def open(self, fd: int) -> int:
+        """Start writing to a socket descriptor (duplicated); returns the connection's id."""
+    def close(self, id: int) -> None:
+        """Forget a connection: its backlog goes, its duplicate descriptor is closed."""
+    def queue(self, id: int, data: bytes) -> None:
+        """Queue one whole batch (bytes-like, copied) for a connection."""
+    def flush(self) -> list[tuple[int, int, int, bool]]:
+        """Send what every socket takes now, without blocking; releases the GIL. Returns
+        [(id, sent_bytes, dropped_batches, failed)] for the connections where something
+        happened."""
+    @property
+    def backlog_bytes(self) -> int: ...
+    @property
+    def connection_count(self) -> int: ...

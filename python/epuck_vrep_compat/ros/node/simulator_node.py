@@ -67,7 +67,7 @@ class SimulatorNode:
         # Reentrant: a service holding it may stop the simulation, whose listeners reset it.
         self._lock = threading.RLock()
         self._errors = ThrottledLog()
-        self._batch = StepBatch()
+        self._batch = StepBatch(background=True)    # sends while the next step is prepared
         self.control = SimulationControl(self.sim, PAUSED if params.paused else RUNNING)
         self.control.listeners.append(self._on_state)
         self._clock = synchronous_publisher(CLOCK_TOPIC, Clock)

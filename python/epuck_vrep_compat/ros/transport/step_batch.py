@@ -15,24 +15,29 @@ when the simulation runs faster than the subscribers could take single packets, 
 share one packet. It relies on ``_PublisherImpl.connections`` / ``remove_connection`` and
 ``TCPROSTransport.socket``, rospy internals unchanged since ROS Kinetic.
 
-Writes never block: rospy's ``sendall`` would stop the whole simulation as soon as one
-subscriber stops reading (a frozen rviz, a process stopped in a debugger) and its socket buffers
-fill. Each connection takes what its socket accepts now; the rest waits in that connection's
-backlog, retried at every flush, and a backlog above ``max_backlog_bytes`` drops its oldest
-whole batches (never a partly sent one), with a throttled warning: a stuck subscriber loses
-messages, like a full roscpp subscriber queue, and everyone else keeps the rates.
+Writes never block, and they leave the interpreter: the core's ``BatchWriter`` (C++, bound in
+``_core``) owns a duplicate of each subscriber connection's socket and writes every waiting batch
+of a connection with one ``sendmsg``, without the GIL. rospy's ``sendall`` would stop the whole
+simulation as soon as one subscriber stops reading (a frozen rviz, a process stopped in a
+debugger) and its socket buffers fill. Each connection takes what its socket accepts now; the
+rest waits in that connection's backlog, retried at every flush, and a backlog above
+``max_backlog_bytes`` drops its oldest whole batches (never a partly sent one), with a throttled
+warning: a stuck subscriber loses messages, like a full roscpp subscriber queue, and everyone
+else keeps the rates. A connection rospy drops (or a failing socket) is forgotten by the writer
+within ``_SCAN_PERIOD_S`` of wall time, its duplicate descriptor closed.
 """
-import collections
 import io
-import socket
 import struct
 import time
 import warnings
 
 import rospy
 
+from epuck_vrep_compat._core import BatchWriter
+
 _FRAME = struct.Struct("<I")
 _WARN_PERIOD_S = 10.0     # wall seconds between warnings about one stuck subscriber
+_SCAN_PERIOD_S = 0.5      # wall seconds between looks for connections rospy dropped
 
 
 def synchronous_publisher(topic, msg_class, **kwargs):
@@ -56,28 +61,23 @@ def wire_bytes(msg) -> bytes:
     return data
 
 
-class _Backlog:
-    """Bytes a subscriber's socket has not taken yet: whole batches, the first maybe partly
-    sent (``chunks`` hold memoryviews)."""
-    __slots__ = ("impl", "chunks", "size")
-
-    def __init__(self, impl):
-        self.impl = impl
-        self.chunks = collections.deque()
-        self.size = 0
-
-
 class StepBatch:
     """Messages of one or more steps, written to the subscribers together."""
 
-    def __init__(self, max_delay_s: float = 0.05, max_backlog_bytes: int = 4 << 20):
+    def __init__(self, max_delay_s: float = 0.05, max_backlog_bytes: int = 4 << 20,
+                 background: bool = False):
+        """``background``: the writer's own thread sends each flush while the caller goes on
+        (the simulator node); otherwise :meth:`flush` sends before it returns."""
         self.max_delay_s = max_delay_s
+        self._background = background
         self.max_backlog_bytes = max_backlog_bytes
         self._pending = {}            # publisher impl -> list of framed messages
-        self._backlogs = {}           # connection -> _Backlog (only while one exists)
+        self._writer = BatchWriter(max_backlog_bytes)
+        self._ids = {}                # connection -> (writer id, publisher impl)
+        self._by_id = {}              # writer id -> connection
         self._dropped = {}            # (subscriber, topic) -> batches dropped so far
         self._warned = {}             # (subscriber, topic) -> wall time of the last warning
-        self._last_flush = time.monotonic()
+        self._last_flush = self._last_scan = time.monotonic()
 
     @staticmethod
     def wanted(pub) -> bool:
@@ -107,85 +107,86 @@ class StepBatch:
     @property
     def backlog_bytes(self) -> int:
         """Bytes waiting for subscribers that do not keep up."""
-        return sum(b.size for b in self._backlogs.values())
+        return self._writer.backlog_bytes
 
     def flush(self):
+        """Queue each topic's batch for each of its connections, then write them all at once
+        (in C++, without the GIL, never blocking)."""
         pending, self._pending = self._pending, {}
-        self._last_flush = time.monotonic()
+        now = self._last_flush = time.monotonic()
+        writer = self._writer
         for impl, chunks in pending.items():
             if impl.closed:
                 continue
             data = b"".join(chunks)
             for connection in impl.connections:     # rospy replaces the list, never mutates it
-                backlog = self._backlogs.get(connection)
-                if backlog is None:
-                    sent = self._send(impl, connection, data)
-                    if sent is None or sent == len(data):
+                entry = self._ids.get(connection)
+                if entry is None:
+                    entry = self._open(impl, connection)
+                    if entry is None:
                         continue
-                    backlog = self._backlogs[connection] = _Backlog(impl)
-                    data_left = memoryview(data)[sent:]
-                else:
-                    data_left = memoryview(data)
-                backlog.chunks.append(data_left)
-                backlog.size += len(data_left)
-                self._trim(connection, backlog)
-        if self._backlogs:
-            self._drain()
+                writer.queue(entry[0], data)
+        if now - self._last_scan >= _SCAN_PERIOD_S:
+            self._last_scan = now
+            self._forget_gone()
+        if self._background:
+            writer.request_flush()
+            self._apply(writer.take_reports(False))     # of the flushes done meanwhile
+        else:
+            self._apply(writer.flush())
 
-    def _trim(self, connection, backlog):
-        """Drop the oldest whole batches after the head while the backlog is too big."""
-        dropped = 0
-        while backlog.size > self.max_backlog_bytes and len(backlog.chunks) > 1:
-            chunk = backlog.chunks[1]
-            del backlog.chunks[1]
-            backlog.size -= len(chunk)
-            dropped += 1
-        if not dropped:
-            return
-        key = (connection.endpoint_id, backlog.impl.resolved_name)
-        self._dropped[key] = total = self._dropped.get(key, 0) + dropped
-        now = time.monotonic()          # wall time: rospy's throttles follow /clock
-        if now - self._warned.get(key, -_WARN_PERIOD_S) >= _WARN_PERIOD_S:
-            self._warned[key] = now
-            rospy.logwarn("subscriber %s of %s is not reading: %d batches of messages dropped "
-                          "for it so far, %.1f MB waiting", key[0], key[1], total,
-                          backlog.size / 1e6)
+    def settle(self):
+        """Wait until the writer's thread has sent every flush requested so far."""
+        self._apply(self._writer.take_reports(True))
 
-    def _drain(self):
-        for connection, backlog in list(self._backlogs.items()):
-            impl = backlog.impl
-            while backlog.chunks:
-                head = backlog.chunks[0]
-                sent = None
-                if not impl.closed and connection in impl.connections:
-                    sent = self._send(impl, connection, head)
-                if sent is None:                       # the connection is gone
-                    backlog.chunks.clear()
-                    break
-                backlog.size -= sent
-                if sent < len(head):
-                    backlog.chunks[0] = head[sent:]
-                    break
-                backlog.chunks.popleft()
-            if not backlog.chunks:
-                del self._backlogs[connection]
+    def _apply(self, reports):
+        """Follow the writer's reports: bytes counted, drops warned about, failures dropped."""
+        for writer_id, sent, dropped, failed in reports:
+            connection = self._by_id.get(writer_id)
+            if connection is None:       # forgotten since that flush
+                continue
+            impl = self._ids[connection][1]
+            connection.stat_bytes += sent
+            if dropped:
+                self._warn_dropped(connection, impl, dropped)
+            if failed:                   # rospy drops a failing connection too
+                rospy.logdebug("dropping connection to %s", connection.endpoint_id)
+                self._forget(connection)
+                impl.remove_connection(connection)
+                connection.close()
 
-    @staticmethod
-    def _send(impl, connection, data):
-        """Bytes the socket took now (0 when full), or None when the connection failed and
-        was dropped."""
+    def _open(self, impl, connection):
+        """The writer's entry for a connection seen for the first time (None: it is gone)."""
         sock = connection.socket
         if sock is None or connection.done:
             impl.remove_connection(connection)
             return None
         try:
-            sent = sock.send(data, socket.MSG_DONTWAIT)
-        except BlockingIOError:
-            return 0
-        except OSError as e:       # rospy drops a failing connection too
-            rospy.logdebug("dropping connection to %s: %s", connection.endpoint_id, e)
+            writer_id = self._writer.open(sock.fileno())
+        except OSError:                  # closed under us: rospy drops it
             impl.remove_connection(connection)
-            connection.close()
             return None
-        connection.stat_bytes += sent
-        return sent
+        entry = self._ids[connection] = (writer_id, impl)
+        self._by_id[writer_id] = connection
+        return entry
+
+    def _forget(self, connection):
+        writer_id, _impl = self._ids.pop(connection)
+        del self._by_id[writer_id]
+        self._writer.close(writer_id)
+
+    def _forget_gone(self):
+        """Close the writer's side of connections rospy no longer lists."""
+        for connection, (_id, impl) in list(self._ids.items()):
+            if impl.closed or connection.done or connection not in impl.connections:
+                self._forget(connection)
+
+    def _warn_dropped(self, connection, impl, dropped):
+        key = (connection.endpoint_id, impl.resolved_name)
+        self._dropped[key] = total = self._dropped.get(key, 0) + dropped
+        now = time.monotonic()          # wall time: rospy's throttles follow /clock
+        if now - self._warned.get(key, -_WARN_PERIOD_S) >= _WARN_PERIOD_S:
+            self._warned[key] = now
+            rospy.logwarn("subscriber %s of %s is not reading: %d batches of messages dropped "
+                          "for it so far, %.1f MB waiting in all", key[0], key[1], total,
+                          self._writer.backlog_bytes / 1e6)

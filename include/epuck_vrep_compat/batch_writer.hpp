@@ -1,0 +1,100 @@
+// BatchWriter: the per-step send path of the ROS faces, off the Python interpreter.
+//
+// Each subscriber connection (one TCP socket per topic and subscriber, as TCPROS has it) gets
+// the bytes of one or more whole message batches per flush. A flush never blocks: each
+// connection's socket takes what it accepts now (one sendmsg over every waiting batch); the
+// rest waits in that connection's backlog, retried at the next flush. When a backlog holds
+// more than max_backlog_bytes, its oldest whole batches after the head are dropped (never a
+// partly sent one), so a stalled reader loses whole messages and never blocks the others.
+//
+// The writer keeps its own duplicate of every socket descriptor (dup), so a descriptor that
+// the caller closes, and the system reuses for a new socket, never receives stale bytes; the
+// duplicate is closed by close(). No Python, no ROS: the binding releases the GIL in flush().
+//
+// Flushing runs on the caller's thread (flush()) or on the writer's own thread
+// (request_flush(), then take_reports()): the caller queues the next batches while the last
+// ones are being sent. queue() never waits for a flush; open() and close() wait for the one
+// under way. Every method may be called from any thread.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace evc {
+
+/// What one flush did to one connection (only connections where something happened).
+struct WriterReport {
+  int id = -1;                      ///< the connection's id (from BatchWriter::open)
+  std::size_t sent_bytes = 0;       ///< bytes the socket took during this flush
+  std::size_t dropped_batches = 0;  ///< whole batches dropped from its backlog
+  bool failed = false;              ///< the socket failed (not "full"): the caller drops it
+};
+
+/// Non-blocking, batched writes to many sockets with bounded per-connection backlogs.
+class BatchWriter {
+ public:
+  explicit BatchWriter(std::size_t max_backlog_bytes);
+  ~BatchWriter();
+  BatchWriter(const BatchWriter&) = delete;
+  BatchWriter& operator=(const BatchWriter&) = delete;
+
+  /// Starts writing to socket descriptor fd (duplicated); returns the connection's id (ids
+  /// are never reused).
+  /// Throws std::system_error when the descriptor cannot be duplicated.
+  int open(int fd);
+  /// Forgets a connection: its backlog goes, its duplicate descriptor is closed.
+  void close(int id);
+  /// Queues one whole batch for a connection (copied); never waits for a flush. Batches for
+  /// an id that is closed (or unknown) by the time they are sent are dropped.
+  void queue(int id, const char* data, std::size_t size);
+  /// Sends what every socket takes now, trims backlogs; never blocks on a socket.
+  std::vector<WriterReport> flush();
+  /// Asks the writer's thread (started on first use) for a flush of what is queued now.
+  void request_flush();
+  /// The reports of the flushes the writer's thread finished since the last call; with
+  /// wait, first waits until every requested flush is done.
+  std::vector<WriterReport> take_reports(bool wait);
+
+  std::size_t backlog_bytes() const;  ///< bytes waiting in every backlog
+  std::size_t connection_count() const;
+  std::size_t max_backlog_bytes() const { return max_backlog_bytes_; }
+
+ private:
+  struct Connection {
+    int fd = -1;
+    std::deque<std::string> batches;  ///< whole batches, the head maybe partly sent
+    std::size_t head_sent = 0;        ///< bytes of the head already sent
+    std::size_t size = 0;             ///< unsent bytes in batches
+    bool queued = false;              ///< has work in this flush
+  };
+
+  std::vector<WriterReport> flush_locked();
+  void take_incoming();
+  void send_waiting(Connection& c, WriterReport& report);
+  std::size_t trim(Connection& c);
+  void run_worker();
+
+  std::size_t max_backlog_bytes_;
+  mutable std::mutex state_mutex_;  ///< connections_, to_flush_: held for a whole flush
+  std::unordered_map<int, Connection> connections_;
+  int next_id_ = 1;
+  std::vector<int> to_flush_;  ///< ids with queued batches or a backlog, in queue order
+  std::mutex incoming_mutex_;  ///< incoming_: held only to append or swap
+  std::vector<std::pair<int, std::string>> incoming_;
+  std::mutex worker_mutex_;  ///< the fields below
+  std::condition_variable worker_wake_;
+  std::condition_variable worker_idle_;
+  std::size_t requested_ = 0;
+  bool stopping_ = false;
+  std::vector<WriterReport> reports_;
+  std::thread worker_;
+};
+
+}  // namespace evc

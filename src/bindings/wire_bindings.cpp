@@ -1,0 +1,81 @@
+// The ROS faces' send path in epuck_vrep_compat._core: BatchWriter (non-blocking, batched
+// writes with bounded per-connection backlogs). A thin shim: it takes bytes, releases the GIL
+// while the sockets are written, and leaves all behaviour to the core.
+#include <string>
+#include <vector>
+
+#include <pybind11/pybind11.h>
+
+#include "epuck_vrep_compat/batch_writer.hpp"
+
+namespace py = pybind11;
+using namespace py::literals;
+
+namespace evc {
+namespace {
+
+py::list report_list(const std::vector<WriterReport>& reports) {
+  py::list out;
+  for (const WriterReport& r : reports) {
+    out.append(py::make_tuple(r.id, r.sent_bytes, r.dropped_batches, r.failed));
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_wire(py::module_& m) {
+  py::class_<BatchWriter>(m, "BatchWriter",
+                          "Non-blocking batched writes to many sockets, each with a backlog "
+                          "bounded by max_backlog_bytes (oldest whole batches dropped).")
+      .def(py::init<std::size_t>(), "max_backlog_bytes"_a)
+      .def("open", &BatchWriter::open, "fd"_a, py::call_guard<py::gil_scoped_release>(),
+           "Start writing to a socket descriptor (duplicated); returns the connection's id.")
+      .def("close", &BatchWriter::close, "id"_a, py::call_guard<py::gil_scoped_release>(),
+           "Forget a connection: its backlog goes, its duplicate descriptor is closed.")
+      .def(
+          "queue",
+          [](BatchWriter& writer, int id, py::buffer data) {
+            const py::buffer_info info = data.request();
+            writer.queue(id, static_cast<const char*>(info.ptr),
+                         static_cast<std::size_t>(info.size * info.itemsize));
+          },
+          "id"_a, "data"_a,
+          "Queue one whole batch (bytes-like, copied) for a connection; a closed connection's "
+          "batches are dropped.")
+      .def(
+          "flush",
+          [](BatchWriter& writer) {
+            std::vector<WriterReport> reports;
+            {
+              py::gil_scoped_release released;
+              reports = writer.flush();
+            }
+            return report_list(reports);
+          },
+          "Send what every socket takes now, without blocking and without the GIL; returns "
+          "[(id, sent_bytes, dropped_batches, failed)] for the connections where something "
+          "happened.")
+      .def("request_flush", &BatchWriter::request_flush,
+           "Ask the writer's own thread (started on first use) to flush what is queued now; "
+           "returns at once.")
+      .def(
+          "take_reports",
+          [](BatchWriter& writer, bool wait) {
+            std::vector<WriterReport> reports;
+            {
+              py::gil_scoped_release released;
+              reports = writer.take_reports(wait);
+            }
+            return report_list(reports);
+          },
+          "wait"_a,
+          "The reports of the flushes the writer's thread finished since the last call, as "
+          "flush() returns them; with wait, after every requested flush is done.")
+      .def_property_readonly("backlog_bytes", &BatchWriter::backlog_bytes,
+                             "Bytes waiting in every backlog.")
+      .def_property_readonly("connection_count", &BatchWriter::connection_count,
+                             "Connections open in the writer.");
+}
+
+}  // namespace evc

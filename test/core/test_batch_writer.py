@@ -1,0 +1,136 @@
+"""BatchWriter (the faces' send path in C++) on real socket pairs: byte-identical streams in
+order, never blocking, bounded backlogs that drop only whole batches, failures reported, its own
+duplicate of each descriptor."""
+import socket
+import struct
+
+import pytest
+
+from epuck_vrep_compat import _core
+
+FRAME = struct.Struct("<I")
+
+
+@pytest.fixture
+def pair():
+    writer, reader = socket.socketpair()
+    writer.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 16384)
+    reader.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16384)
+    yield writer, reader
+    writer.close()
+    reader.close()
+
+
+def batch(seq, size):
+    body = struct.pack("<I", seq) + bytes(size - 4)
+    return FRAME.pack(len(body)) + body
+
+
+def read_all(sock):
+    sock.setblocking(False)
+    data = b""
+    while True:
+        try:
+            chunk = sock.recv(1 << 20)
+        except BlockingIOError:
+            return data
+        if not chunk:
+            return data
+        data += chunk
+
+
+def sequence_numbers(stream):
+    out, i = [], 0
+    while i < len(stream):
+        (n,) = FRAME.unpack_from(stream, i)
+        assert i + 4 + n <= len(stream), "a partial message in the stream"
+        out.append(struct.unpack_from("<I", stream, i + 4)[0])
+        i += 4 + n
+    return out
+
+
+def test_a_reader_that_keeps_up_gets_the_same_bytes_in_order(pair):
+    sender, reader = pair
+    writer = _core.BatchWriter(1 << 20)
+    wid = writer.open(sender.fileno())
+    sent, received = b"", b""
+    for seq in range(300):
+        data = batch(seq, 50 + seq % 200)
+        writer.queue(wid, data)
+        sent += data
+        reports = writer.flush()
+        assert reports == [(wid, len(data), 0, False)]
+        received += read_all(reader)
+    assert received == sent
+    assert writer.backlog_bytes == 0
+
+
+def test_a_stalled_reader_never_blocks_and_loses_only_whole_batches(pair):
+    sender, reader = pair
+    cap, size = 100000, 10004
+    writer = _core.BatchWriter(cap)
+    wid = writer.open(sender.fileno())
+    dropped = 0
+    for seq in range(500):                       # 5 MB, the reader takes nothing
+        writer.queue(wid, batch(seq, size - 4))
+        for report_id, _sent, lost, failed in writer.flush():
+            assert report_id == wid and not failed
+            dropped += lost
+        assert writer.backlog_bytes <= cap + size
+    stream = read_all(reader)
+    for _ in range(100):                         # the reader is back: the backlog drains
+        writer.flush()
+        stream += read_all(reader)
+        if writer.backlog_bytes == 0:
+            break
+    assert writer.backlog_bytes == 0
+    received = sequence_numbers(stream)
+    assert received == sorted(received) and received[0] == 0 and received[-1] == 499
+    assert len(received) + dropped == 500 and dropped > 0
+
+
+def test_a_closed_reader_is_reported_failed_and_closing_forgets_it(pair):
+    sender, reader = pair
+    writer = _core.BatchWriter(1 << 20)
+    wid = writer.open(sender.fileno())
+    reader.close()
+    writer.queue(wid, batch(0, 100))
+    assert writer.flush() == [(wid, 0, 0, True)]
+    writer.close(wid)
+    assert writer.connection_count == 0
+    writer.queue(wid, b"x")                      # a closed connection's batches go nowhere
+    assert writer.flush() == [] and writer.backlog_bytes == 0
+
+
+def test_the_writers_thread_sends_while_the_caller_queues(pair):
+    sender, reader = pair
+    writer = _core.BatchWriter(1 << 20)
+    wid = writer.open(sender.fileno())
+    sent, received, reports = b"", b"", []
+    for seq in range(300):
+        data = batch(seq, 60 + seq % 100)
+        writer.queue(wid, data)
+        sent += data
+        writer.request_flush()                   # returns at once; the thread sends
+        reports += writer.take_reports(False)
+        received += read_all(reader)
+    reports += writer.take_reports(True)         # every requested flush done
+    received += read_all(reader)
+    assert received == sent
+    assert sum(r[1] for r in reports) == len(sent)
+    assert all(r[0] == wid and r[2] == 0 and not r[3] for r in reports)
+
+
+def test_the_writer_keeps_its_own_descriptor(pair):
+    sender, reader = pair
+    writer = _core.BatchWriter(1 << 20)
+    wid = writer.open(sender.fileno())
+    assert wid != sender.fileno()
+    sender.close()                               # the caller's descriptor goes
+    writer.queue(wid, batch(7, 64))
+    assert writer.flush()[0][1] == 68
+    assert sequence_numbers(read_all(reader)) == [7]
+    writer.close(wid)                            # the last descriptor: the reader sees EOF
+    reader.setblocking(True)
+    reader.settimeout(30.0)
+    assert reader.recv(10) == b""
