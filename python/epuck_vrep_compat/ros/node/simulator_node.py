@@ -107,11 +107,13 @@ class SimulatorNode:
             for _ in range(req.steps):
                 if not self._step_and_publish():
                     self._batch.flush()
+                    self._batch.settle()
                     return StepSimulationResponse(False, "the simulation step failed (see the "
                                                   "node's log)", self.sim.frame, self.sim.time_s)
                 if self._batch.due():
                     self._batch.flush()
             self._batch.flush()
+            self._batch.settle()     # the steps' messages are on their way before the answer
         return StepSimulationResponse(True, "", self.sim.frame, self.sim.time_s)
 
     def _on_pause(self, _req):
