@@ -9,7 +9,9 @@
 //
 // The writer keeps its own duplicate of every socket descriptor (dup), so a descriptor that
 // the caller closes, and the system reuses for a new socket, never receives stale bytes; the
-// duplicate is closed by close(). No Python, no ROS: the binding releases the GIL in flush().
+// duplicate is closed by close(). Past the process's descriptor limit a connection can be
+// opened on the caller's descriptor instead (borrowed: the caller must not close it while a
+// flush may run, i.e. flush on its own thread). No Python, no ROS: the binding releases the GIL in flush().
 //
 // Flushing runs on the caller's thread (flush()) or on the writer's own thread
 // (request_flush(), then take_reports()): the caller queues the next batches while the last
@@ -45,10 +47,10 @@ class BatchWriter {
   BatchWriter(const BatchWriter&) = delete;
   BatchWriter& operator=(const BatchWriter&) = delete;
 
-  /// Starts writing to socket descriptor fd (duplicated); returns the connection's id (ids
-  /// are never reused).
-  /// Throws std::system_error when the descriptor cannot be duplicated.
-  int open(int fd);
+  /// Starts writing to socket descriptor fd, duplicated when own (else borrowed); returns the
+  /// connection's id (ids are never reused). Throws std::system_error when the descriptor
+  /// cannot be duplicated (EMFILE past the descriptor limit).
+  int open(int fd, bool own = true);
   /// Forgets a connection: its backlog goes, its duplicate descriptor is closed.
   void close(int id);
   /// Queues one whole batch for a connection (copied); never waits for a flush. Batches for
@@ -69,6 +71,7 @@ class BatchWriter {
  private:
   struct Connection {
     int fd = -1;
+    bool owned = true;                ///< fd is the writer's duplicate, closed by close()
     std::deque<std::string> batches;  ///< whole batches, the head maybe partly sent
     std::size_t head_sent = 0;        ///< bytes of the head already sent
     std::size_t size = 0;             ///< unsent bytes in batches

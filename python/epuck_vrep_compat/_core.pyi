@@ -366,8 +366,9 @@ class BatchWriter:
     """Non-blocking batched writes to many sockets, each with a backlog bounded by
     max_backlog_bytes (oldest whole batches dropped, never a partly sent one)."""
     def __init__(self, max_backlog_bytes: int) -> None: ...
-    def open(self, fd: int) -> int:
-        """Start writing to a socket descriptor (duplicated); returns the connection's id."""
+    def open(self, fd: int, own: bool = True) -> int:
+        """Start writing to a socket descriptor, duplicated when own (OSError past the
+        descriptor limit), else borrowed; returns the connection's id (never reused)."""
     def close(self, id: int) -> None:
         """Forget a connection: its backlog goes, its duplicate descriptor is closed."""
     def queue(self, id: int, data: bytes) -> None:

@@ -29,8 +29,10 @@ void bind_wire(py::module_& m) {
                           "Non-blocking batched writes to many sockets, each with a backlog "
                           "bounded by max_backlog_bytes (oldest whole batches dropped).")
       .def(py::init<std::size_t>(), "max_backlog_bytes"_a)
-      .def("open", &BatchWriter::open, "fd"_a, py::call_guard<py::gil_scoped_release>(),
-           "Start writing to a socket descriptor (duplicated); returns the connection's id.")
+      .def("open", &BatchWriter::open, "fd"_a, "own"_a = true,
+           py::call_guard<py::gil_scoped_release>(),
+           "Start writing to a socket descriptor, duplicated when own (OSError past the "
+           "descriptor limit), else borrowed; returns the connection's id (never reused).")
       .def("close", &BatchWriter::close, "id"_a, py::call_guard<py::gil_scoped_release>(),
            "Forget a connection: its backlog goes, its duplicate descriptor is closed.")
       .def(

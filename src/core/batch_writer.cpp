@@ -26,15 +26,18 @@ BatchWriter::~BatchWriter() {
   }
   worker_wake_.notify_all();
   if (worker_.joinable()) worker_.join();
-  for (auto& entry : connections_) ::close(entry.second.fd);
+  for (auto& entry : connections_) {
+    if (entry.second.owned) ::close(entry.second.fd);
+  }
 }
 
-int BatchWriter::open(int fd) {
+int BatchWriter::open(int fd, bool own) {
   std::lock_guard<std::mutex> lock(state_mutex_);
-  const int own = ::fcntl(fd, F_DUPFD_CLOEXEC, 0);
-  if (own < 0) throw std::system_error(errno, std::generic_category(), "dup of a socket");
+  const int writer_fd = own ? ::fcntl(fd, F_DUPFD_CLOEXEC, 0) : fd;
+  if (writer_fd < 0) throw std::system_error(errno, std::generic_category(), "dup of a socket");
   const int id = next_id_++;  // never reused, unlike descriptors: a late report stays its own
-  connections_[id].fd = own;
+  connections_[id].fd = writer_fd;
+  connections_[id].owned = own;
   return id;
 }
 
@@ -43,7 +46,7 @@ void BatchWriter::close(int id) {
   take_incoming();  // batches queued for it before the close go with it
   auto it = connections_.find(id);
   if (it == connections_.end()) return;
-  ::close(it->second.fd);
+  if (it->second.owned) ::close(it->second.fd);
   connections_.erase(it);
   to_flush_.erase(std::remove(to_flush_.begin(), to_flush_.end(), id), to_flush_.end());
 }

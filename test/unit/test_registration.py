@@ -87,6 +87,26 @@ def test_rospy_registers_itself_again_once_the_queue_is_empty():
     assert sum(len(b) for b in master.batches) == 2
 
 
+def test_a_registration_after_the_context_waits_for_the_queue_then_is_synchronous():
+    registrar, master = FakeRegistrar(), FakeMaster()
+    master.gate.clear()
+    bulk = BulkRegistration(registrar, batch_size=2, master=master)
+    with bulk:
+        register(registrar, 3)
+    done = threading.Event()
+
+    def late():                                  # a service creating a topic at run time
+        registrar.reg_added("/late", "std_msgs/Empty", Registration.PUB)
+        done.set()
+    threading.Thread(target=late, daemon=True).start()
+    assert not done.wait(0.2)                    # the queue is not sent yet: it waits
+    master.gate.set()
+    assert done.wait(TIMEOUT_S)
+    assert registrar.synchronous == [("add", "/late")]
+    assert sum(len(b) for b in master.batches) == 3
+    assert bulk.wait(TIMEOUT_S)
+
+
 def test_subscribers_get_their_publishers_and_services_their_uri():
     registrar, master = FakeRegistrar(), FakeMaster()
     bulk = BulkRegistration(registrar, master=master)

@@ -1,6 +1,7 @@
 """StepBatch's data path against a real socket whose reader stops: flushing never blocks, the
 backlog stays bounded, whole messages arrive in order once the reader comes back, and a closed
 reader's connection is dropped."""
+import errno
 import socket
 import struct
 
@@ -134,3 +135,34 @@ def test_a_closed_reader_is_dropped(pair, background):
         batch.flush()
     batch.settle()
     assert pub.impl.connections == []
+
+
+class OutOfDescriptors:
+    """The core's writer, as past the process's descriptor limit: no duplicates."""
+
+    def __init__(self, writer):
+        self._writer = writer
+
+    def open(self, fd, own=True):
+        if own:
+            raise OSError(errno.EMFILE, "Too many open files")
+        return self._writer.open(fd, own)
+
+    def __getattr__(self, name):
+        return getattr(self._writer, name)
+
+
+def test_past_the_descriptor_limit_rospys_descriptor_is_written_on_the_callers_thread(pair):
+    writer, reader = pair
+    connection = FakeConnection(writer)
+    pub = FakePublisher(FakeImpl(connection))
+    batch = StepBatch(background=True)
+    batch._writer = OutOfDescriptors(batch._writer)
+    batch.add_frame(pub, message(1, 100))
+    batch.flush()                                # no settle: sent before flush returns
+    assert frames(read_all(reader)) == [1]
+    assert connection.stat_bytes == 104
+    pub.impl.connections = []                    # rospy drops it: the writer forgets it
+    batch._last_scan = -1e9
+    batch.flush()
+    assert batch._writer.connection_count == 0

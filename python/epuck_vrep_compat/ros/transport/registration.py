@@ -16,8 +16,9 @@ resume on exit.
 Answers are handled as rospy's ``RegManager`` does: a subscriber's current publishers are
 handed to rospy, which connects to them; a refused registration is logged as fatal. While the
 master is unreachable the batch is retried, like rospy. Registrations and unregistrations stay
-in their order: until the queue is empty again, every later one goes through the queue too,
-and only then does rospy's own synchronous path take over again.
+in their order: one made after the context (a service creating a topic at run time) waits
+until the queue has been sent, then goes through rospy's own synchronous path, so its caller
+still finds it at the master when it returns.
 
 It relies on rospy's ``RegManager`` (its ``reg_added``, ``reg_removed``, ``publisher_update``,
 ``uri`` and ``master_uri``) and on ``Registration``'s type constants, unchanged since ROS Kinetic.
@@ -118,16 +119,27 @@ class BulkRegistration:
 
     # --- queueing (rospy's threads, under its registration-listener lock) -----------------
     def _added(self, resolved_name, data_type_or_uri, reg_type):
-        self._enqueue(_REGISTER[reg_type], resolved_name, data_type_or_uri, reg_type)
+        if not self._deferred(_REGISTER[reg_type], resolved_name, data_type_or_uri, reg_type):
+            type(self._registrar).reg_added(self._registrar, resolved_name, data_type_or_uri,
+                                            reg_type)
 
     def _removed(self, resolved_name, data_type_or_uri, reg_type):
-        self._enqueue(_UNREGISTER[reg_type], resolved_name, data_type_or_uri, reg_type)
+        if not self._deferred(_UNREGISTER[reg_type], resolved_name, data_type_or_uri, reg_type):
+            type(self._registrar).reg_removed(self._registrar, resolved_name, data_type_or_uri,
+                                              reg_type)
 
-    def _enqueue(self, method, resolved_name, data_type_or_uri, reg_type):
+    def _deferred(self, method, resolved_name, data_type_or_uri, reg_type) -> bool:
+        """Queue it inside the context (True); after it, wait until the queue was sent and
+        leave it to rospy (False)."""
         with self._lock:
-            self._queue.append((method, resolved_name, data_type_or_uri, reg_type))
-            self._ensure_thread()     # sending overlaps with creating the next topics
-            self._lock.notify_all()
+            if self._deferring:
+                self._queue.append((method, resolved_name, data_type_or_uri, reg_type))
+                self._ensure_thread()     # sending overlaps with creating the next topics
+                self._lock.notify_all()
+                return True
+            while self._queue and not rospy.is_shutdown():
+                self._lock.wait(_RETRY_S)
+            return False
 
     def _ensure_thread(self):
         """Start the sending thread unless it runs (holding ``self._lock``)."""
@@ -162,9 +174,7 @@ class BulkRegistration:
                     self._lock.notify_all()
             else:
                 time.sleep(_RETRY_S)
-        # rospy calls reg_added under its listeners' lock: taken first, no registration can
-        # slip into the queue between the last check and the restore
-        with get_registration_listeners().lock, self._lock:
+        with self._lock:       # after the context nothing is queued: no registration is lost
             self._thread = None
             if self._queue and not rospy.is_shutdown():
                 self._ensure_thread()
