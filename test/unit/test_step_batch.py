@@ -152,17 +152,20 @@ class OutOfDescriptors:
         return getattr(self._writer, name)
 
 
-def test_past_the_descriptor_limit_rospys_descriptor_is_written_on_the_callers_thread(pair):
+def test_past_the_descriptor_limit_rospys_descriptor_is_used_until_rospy_closes_it(pair):
     writer, reader = pair
     connection = FakeConnection(writer)
     pub = FakePublisher(FakeImpl(connection))
     batch = StepBatch(background=True)
     batch._writer = OutOfDescriptors(batch._writer)
     batch.add_frame(pub, message(1, 100))
-    batch.flush()                                # no settle: sent before flush returns
+    batch.flush()
+    batch.settle()
     assert frames(read_all(reader)) == [1]
     assert connection.stat_bytes == 104
-    pub.impl.connections = []                    # rospy drops it: the writer forgets it
-    batch._last_scan = -1e9
+    connection.close()                           # as rospy drops a dead connection
+    assert connection.done and batch._writer.connection_count == 0
+    batch.add_frame(pub, message(2, 100))        # rospy has not taken it off the list yet
     batch.flush()
-    assert batch._writer.connection_count == 0
+    batch.settle()
+    assert read_all(reader) == b""

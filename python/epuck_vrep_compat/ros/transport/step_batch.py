@@ -26,9 +26,10 @@ warning: a stuck subscriber loses messages, like a full roscpp subscriber queue,
 else keeps the rates. A connection rospy drops (or a failing socket) is forgotten by the writer
 within ``_SCAN_PERIOD_S`` of wall time, its duplicate descriptor closed. The duplicates double the
 node's descriptors (14 001 connections at N = 1000 with everything subscribed), so the node
-raises its soft descriptor limit to the hard one; past that, a connection is written on rospy's
-own descriptor, and while any is, flushes run on the caller's thread (rospy closes its
-descriptors from its own threads: the writer's thread must not write on one it may reuse).
+raises its descriptor limit as far as it may; past that, a connection is written on rospy's
+own descriptor, and its ``close`` (which rospy calls from its own threads when it drops a
+connection) first takes the connection out of the writer, waiting for a flush under way, so the
+writer's thread never writes on a descriptor the system may have reused.
 """
 import errno
 import io
@@ -57,15 +58,35 @@ def synchronous_publisher(topic, msg_class, **kwargs):
         return rospy.Publisher(topic, msg_class, queue_size=None, **kwargs)
 
 
-def _raise_descriptor_limit():
-    """The soft limit on open descriptors up to the hard one (the writer duplicates each
-    subscriber connection's socket)."""
+def _close_through(writer, writer_id, connection):
+    """Make the connection's ``close`` take it out of the writer first (rospy closes dropped
+    connections from its own threads; the writer must be done with the descriptor)."""
+    rospy_close = connection.close
+
+    def close():
+        writer.close(writer_id)          # waits for a flush under way; then never again
+        rospy_close()
+    connection.close = close
+
+
+def _raise_descriptor_limit(wanted: int = 1 << 18):
+    """Room for the writer's duplicate of each subscriber connection's socket: the soft limit
+    on open descriptors raised to ``wanted``, the hard one too where the process may (root,
+    CAP_SYS_RESOURCE), else as far as the hard limit allows."""
+    infinity = resource.RLIM_INFINITY
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
-    if soft != hard:
+    if soft == infinity or soft >= wanted:
+        return
+    if hard == infinity or hard >= wanted:
+        attempts = [(wanted, hard)]
+    else:
+        attempts = [(wanted, wanted), (hard, hard)]
+    for limit in attempts:
         try:
-            resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
-        except (ValueError, OSError):   # an unlimited hard limit the kernel caps lower
-            pass
+            resource.setrlimit(resource.RLIMIT_NOFILE, limit)
+            return
+        except (ValueError, OSError):   # not allowed, or above the kernel's nr_open
+            continue
 
 
 def wire_bytes(msg) -> bytes:
@@ -91,7 +112,7 @@ class StepBatch:
         self._pending = {}            # publisher impl -> list of framed messages
         self._writer = BatchWriter(max_backlog_bytes)
         self._ids = {}                # connection -> (writer id, publisher impl)
-        self._borrowed = set()        # connections written on rospy's own descriptor
+        self._borrowing = False       # past the descriptor limit (warned once)
         self._by_id = {}              # writer id -> connection
         self._dropped = {}            # (subscriber, topic) -> batches dropped so far
         self._warned = {}             # (subscriber, topic) -> wall time of the last warning
@@ -149,11 +170,11 @@ class StepBatch:
         if now - self._last_scan >= _SCAN_PERIOD_S:
             self._last_scan = now
             self._forget_gone()
-        if self._background and not self._borrowed:
+        if self._background:
             writer.request_flush()
             self._apply(writer.take_reports(False))     # of the flushes done meanwhile
         else:
-            self._apply(writer.take_reports(False) + writer.flush())
+            self._apply(writer.flush())
 
     def settle(self):
         """Wait until the writer's thread has sent every flush requested so far."""
@@ -187,18 +208,17 @@ class StepBatch:
             if e.errno != errno.EMFILE:  # closed under us: rospy drops it
                 impl.remove_connection(connection)
                 return None
-            if not self._borrowed:
-                rospy.logwarn("descriptor limit reached (%d subscriber connections): writing "
-                              "on rospy's descriptors, on the stepping thread",
-                              len(self._ids))
+            if not self._borrowing:
+                self._borrowing = True
+                rospy.loginfo("descriptor limit reached at %d subscriber connections: the "
+                              "next ones are written on rospy's descriptors", len(self._ids))
             writer_id = self._writer.open(sock.fileno(), own=False)
-            self._borrowed.add(connection)
+            _close_through(self._writer, writer_id, connection)
         entry = self._ids[connection] = (writer_id, impl)
         self._by_id[writer_id] = connection
         return entry
 
     def _forget(self, connection):
-        self._borrowed.discard(connection)
         writer_id, _impl = self._ids.pop(connection)
         del self._by_id[writer_id]
         self._writer.close(writer_id)
