@@ -2,6 +2,7 @@
 // writes with bounded per-connection backlogs). A thin shim: it takes bytes, releases the GIL
 // while the sockets are written, and leaves all behaviour to the core.
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <pybind11/pybind11.h>
@@ -25,6 +26,16 @@ py::list report_list(const std::vector<WriterReport>& reports) {
 }  // namespace
 
 void bind_wire(py::module_& m) {
+  // A descriptor that cannot be duplicated (EMFILE past the limit, EBADF) is an OSError with
+  // its errno, as Python's own os.dup raises it.
+  py::register_exception_translator([](std::exception_ptr error) {
+    try {
+      if (error) std::rethrow_exception(error);
+    } catch (const std::system_error& e) {
+      py::object os_error = py::reinterpret_borrow<py::object>(PyExc_OSError);
+      PyErr_SetObject(PyExc_OSError, os_error(e.code().value(), e.what()).ptr());
+    }
+  });
   py::class_<BatchWriter>(m, "BatchWriter",
                           "Non-blocking batched writes to many sockets, each with a backlog "
                           "bounded by max_backlog_bytes (oldest whole batches dropped).")

@@ -1,6 +1,9 @@
 """BatchWriter (the faces' send path in C++) on real socket pairs: byte-identical streams in
 order, never blocking, bounded backlogs that drop only whole batches, failures reported, its own
 duplicate of each descriptor."""
+import errno
+import os
+import resource
 import socket
 import struct
 
@@ -116,6 +119,12 @@ def test_the_writers_thread_sends_while_the_caller_queues(pair):
         received += read_all(reader)
     reports += writer.take_reports(True)         # every requested flush done
     received += read_all(reader)
+    for _ in range(100):                         # what a full socket left in the backlog
+        if writer.backlog_bytes == 0:
+            break
+        writer.request_flush()
+        reports += writer.take_reports(True)
+        received += read_all(reader)
     assert received == sent
     assert sum(r[1] for r in reports) == len(sent)
     assert all(r[0] == wid and r[2] == 0 and not r[3] for r in reports)
@@ -134,3 +143,26 @@ def test_the_writer_keeps_its_own_descriptor(pair):
     reader.setblocking(True)
     reader.settimeout(30.0)
     assert reader.recv(10) == b""
+
+
+def test_a_descriptor_that_cannot_be_duplicated_is_an_os_error(pair):
+    sender, _reader = pair
+    writer = _core.BatchWriter(1 << 20)
+    with pytest.raises(OSError) as bad:
+        writer.open(-1)
+    assert bad.value.errno == errno.EBADF
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    lowest_free = os.dup(0)
+    os.close(lowest_free)
+    resource.setrlimit(resource.RLIMIT_NOFILE, (lowest_free, hard))   # no descriptor left
+    try:
+        with pytest.raises(OSError) as full:
+            writer.open(sender.fileno())
+        borrowed = writer.open(sender.fileno(), own=False)
+    finally:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (soft, hard))
+    assert full.value.errno == errno.EMFILE
+    writer.queue(borrowed, batch(3, 40))
+    assert writer.flush() == [(borrowed, 44, 0, False)]
+    writer.close(borrowed)                       # borrowed: the caller's descriptor stays open
+    sender.send(b"")

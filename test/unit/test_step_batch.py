@@ -1,7 +1,6 @@
 """StepBatch's data path against a real socket whose reader stops: flushing never blocks, the
 backlog stays bounded, whole messages arrive in order once the reader comes back, and a closed
 reader's connection is dropped."""
-import errno
 import socket
 import struct
 
@@ -137,27 +136,11 @@ def test_a_closed_reader_is_dropped(pair, background):
     assert pub.impl.connections == []
 
 
-class OutOfDescriptors:
-    """The core's writer, as past the process's descriptor limit: no duplicates."""
-
-    def __init__(self, writer):
-        self._writer = writer
-
-    def open(self, fd, own=True):
-        if own:
-            raise OSError(errno.EMFILE, "Too many open files")
-        return self._writer.open(fd, own)
-
-    def __getattr__(self, name):
-        return getattr(self._writer, name)
-
-
-def test_past_the_descriptor_limit_rospys_descriptor_is_used_until_rospy_closes_it(pair):
+def test_rospys_close_takes_the_connection_out_of_the_writer_first(pair):
     writer, reader = pair
     connection = FakeConnection(writer)
     pub = FakePublisher(FakeImpl(connection))
     batch = StepBatch(background=True)
-    batch._writer = OutOfDescriptors(batch._writer)
     batch.add_frame(pub, message(1, 100))
     batch.flush()
     batch.settle()

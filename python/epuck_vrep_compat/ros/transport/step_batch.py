@@ -16,24 +16,23 @@ share one packet. It relies on ``_PublisherImpl.connections`` / ``remove_connect
 ``TCPROSTransport.socket``, rospy internals unchanged since ROS Kinetic.
 
 Writes never block, and they leave the interpreter: the core's ``BatchWriter`` (C++, bound in
-``_core``) owns a duplicate of each subscriber connection's socket and writes every waiting batch
-of a connection with one ``sendmsg``, without the GIL. rospy's ``sendall`` would stop the whole
-simulation as soon as one subscriber stops reading (a frozen rviz, a process stopped in a
-debugger) and its socket buffers fill. Each connection takes what its socket accepts now; the
-rest waits in that connection's backlog, retried at every flush, and a backlog above
-``max_backlog_bytes`` drops its oldest whole batches (never a partly sent one), with a throttled
-warning: a stuck subscriber loses messages, like a full roscpp subscriber queue, and everyone
-else keeps the rates. A connection rospy drops (or a failing socket) is forgotten by the writer
-within ``_SCAN_PERIOD_S`` of wall time, its duplicate descriptor closed. The duplicates double the
-node's descriptors (14 001 connections at N = 1000 with everything subscribed), so the node
-raises its descriptor limit as far as it may; past that, a connection is written on rospy's
-own descriptor, and its ``close`` (which rospy calls from its own threads when it drops a
-connection) first takes the connection out of the writer, waiting for a flush under way, so the
-writer's thread never writes on a descriptor the system may have reused.
+``_core``) writes every waiting batch of a connection with one ``sendmsg``, without the GIL, on
+its own thread in the node (``background``), while Python prepares the next step. rospy's
+``sendall`` would stop the whole simulation as soon as one subscriber stops reading (a frozen
+rviz, a process stopped in a debugger) and its socket buffers fill. Each connection takes what
+its socket accepts now; the rest waits in that connection's backlog, retried at every flush, and
+a backlog above ``max_backlog_bytes`` drops its oldest whole batches (never a partly sent one),
+with a throttled warning: a stuck subscriber loses messages, like a full roscpp subscriber
+queue, and everyone else keeps the rates.
+
+The writer writes on rospy's own descriptors (a duplicate each would double the node's
+descriptors, 14 001 connections at N = 1000 with everything subscribed, and starve rospy's
+accepts at the process's limit). rospy closes a dropped connection from its own threads, always
+through the connection's ``close``: that first takes the connection out of the writer, waiting
+for a flush under way, so the writer never writes on a descriptor the system may have reused.
+A connection rospy forgets otherwise is taken out within ``_SCAN_PERIOD_S`` of wall time.
 """
-import errno
 import io
-import resource
 import struct
 import time
 import warnings
@@ -69,26 +68,6 @@ def _close_through(writer, writer_id, connection):
     connection.close = close
 
 
-def _raise_descriptor_limit(wanted: int = 1 << 18):
-    """Room for the writer's duplicate of each subscriber connection's socket: the soft limit
-    on open descriptors raised to ``wanted``, the hard one too where the process may (root,
-    CAP_SYS_RESOURCE), else as far as the hard limit allows."""
-    infinity = resource.RLIM_INFINITY
-    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
-    if soft == infinity or soft >= wanted:
-        return
-    if hard == infinity or hard >= wanted:
-        attempts = [(wanted, hard)]
-    else:
-        attempts = [(wanted, wanted), (hard, hard)]
-    for limit in attempts:
-        try:
-            resource.setrlimit(resource.RLIMIT_NOFILE, limit)
-            return
-        except (ValueError, OSError):   # not allowed, or above the kernel's nr_open
-            continue
-
-
 def wire_bytes(msg) -> bytes:
     """The serialised body of a message (pre-serialised ``WireMessage`` or genpy message)."""
     data = getattr(msg, "_bytes", None)
@@ -112,13 +91,10 @@ class StepBatch:
         self._pending = {}            # publisher impl -> list of framed messages
         self._writer = BatchWriter(max_backlog_bytes)
         self._ids = {}                # connection -> (writer id, publisher impl)
-        self._borrowing = False       # past the descriptor limit (warned once)
         self._by_id = {}              # writer id -> connection
         self._dropped = {}            # (subscriber, topic) -> batches dropped so far
         self._warned = {}             # (subscriber, topic) -> wall time of the last warning
         self._last_flush = self._last_scan = time.monotonic()
-        if background:
-            _raise_descriptor_limit()
 
     @staticmethod
     def wanted(pub) -> bool:
@@ -202,18 +178,8 @@ class StepBatch:
         if sock is None or connection.done:
             impl.remove_connection(connection)
             return None
-        try:
-            writer_id = self._writer.open(sock.fileno())
-        except OSError as e:
-            if e.errno != errno.EMFILE:  # closed under us: rospy drops it
-                impl.remove_connection(connection)
-                return None
-            if not self._borrowing:
-                self._borrowing = True
-                rospy.loginfo("descriptor limit reached at %d subscriber connections: the "
-                              "next ones are written on rospy's descriptors", len(self._ids))
-            writer_id = self._writer.open(sock.fileno(), own=False)
-            _close_through(self._writer, writer_id, connection)
+        writer_id = self._writer.open(sock.fileno(), own=False)
+        _close_through(self._writer, writer_id, connection)
         entry = self._ids[connection] = (writer_id, impl)
         self._by_id[writer_id] = connection
         return entry
