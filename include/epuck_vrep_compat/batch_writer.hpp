@@ -7,11 +7,11 @@
 // more than max_backlog_bytes, its oldest whole batches after the head are dropped (never a
 // partly sent one), so a stalled reader loses whole messages and never blocks the others.
 //
-// The writer keeps its own duplicate of every socket descriptor (dup), so a descriptor that
-// the caller closes, and the system reuses for a new socket, never receives stale bytes; the
-// duplicate is closed by close(). Past the process's descriptor limit a connection can be
-// opened on the caller's descriptor instead (borrowed: the caller must not close it while a
-// flush may run, i.e. flush on its own thread). No Python, no ROS: the binding releases the GIL in flush().
+// A connection is opened on its own duplicate of the socket descriptor (dup; closed by close(),
+// so a descriptor the caller closes and the system reuses never receives stale bytes), or on the
+// caller's descriptor (borrowed: no extra descriptor, but the caller must close() the connection
+// here before it closes the descriptor; close() waits for a flush under way). No Python, no ROS:
+// the binding releases the GIL while flushing.
 //
 // Flushing runs on the caller's thread (flush()) or on the writer's own thread
 // (request_flush(), then take_reports()): the caller queues the next batches while the last
