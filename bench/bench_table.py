@@ -22,6 +22,10 @@ def _num(value, digits=3):
     return f"{value:.{digits}g}"
 
 
+def _kilo(value):
+    return "—" if value is None else f"{value / 1000:.1f} k"
+
+
 def _seconds(value):
     return "—" if value is None else f"{value:.3f}"
 
@@ -32,7 +36,7 @@ def _ratio(ours, peer):
     return f"{ours / peer:.2f}×"
 
 
-HEADER = ("| N | ours (a) RTF | ours (b) RTF | (b) messages/s | ours start-up s (topics / "
+HEADER = ("| N | ours (a) RTF | ours (b) RTF | (b) messages/s (ours / bare roscpp sender) | ours start-up s (topics / "
           "first step) | Enki C++ RTF 10 ms / 50 ms | Enki C++ start-up s | pyenki RTF "
           "(Braitenberg / none) | (a) ÷ Enki C++ 50 ms | (b) ÷ Enki C++ 50 ms | "
           "peak MB ours (a / b) / Enki C++ |\n" + "| --- " * 11 + "|")
@@ -49,9 +53,10 @@ def markdown_table(rows):
         py_b = _find(rows, n, peer="enki", controller="braitenberg")
         py_n = _find(rows, n, peer="enki", controller="none")
         msgs = b.get("subscriber_msgs_per_s")
+        floor = _find(rows, n, sender="floor_cpp").get("subscriber_msgs_per_s")
         cells = [
             str(n), _num(a.get("rtf")), _num(b.get("rtf")),
-            "—" if msgs is None else f"{msgs / 1000:.1f} k",
+            f"{_kilo(msgs)} / {_kilo(floor)}",
             f"{_seconds(a.get('topics_s'))} / {_seconds(a.get('first_step_s'))}",
             f"{_num(cpp10.get('rtf'))} / {_num(cpp50.get('rtf'))}",
             _seconds(cpp50.get("startup_s")),

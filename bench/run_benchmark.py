@@ -14,7 +14,11 @@ Peers, same arena and robots: Enki's C++ library driven from C++ (``build/enki_s
 sensors, Braitenberg avoidance in C++, no camera) at Enki's 10 ms step and at our 50 ms step,
 its start-up timed from its process start to the end of its first step; and Debian's pyenki
 (``enki_peer.py``: Python controller, a camera it cannot switch off) at 10 ms. The table's
-ratios compare ours with Enki C++ at the same 50 ms step.
+ratios compare ours with Enki C++ at the same 50 ms step. With ``--floor``, the per-message floor
+of (b): a bare roscpp process (``build/floor_sender``) advertising the same topics and publishing
+the same messages flat out, with no simulation, to the same ``subscribe_all`` (roscpp writes
+each message on its own; our writer coalesces a topic's messages, so it may beat this "floor").
+Messages per second are counted over the measured window, once every subscription connected.
 Requires a built workspace (``tools/setup``) sourced, and ``bench/build.sh`` run.
 
     bench/run_benchmark.py --robots 1 10 100 1000 --json results/bench.jsonl
@@ -25,6 +29,7 @@ import math
 import os
 import platform
 import re
+import signal
 import socket
 import subprocess
 import sys
@@ -144,6 +149,8 @@ def run_ours(n, measure_s, subscribe, cell_m):
                                     "--regex", r"^/(ePuck\d+/.*|tf)$"], env=env,
                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
         time.sleep(5.0 + n / 50.0)       # connections (latched commands, subscriber) settle
+        if sub is not None:
+            sub.send_signal(signal.SIGUSR1)   # the subscriber counts this window only
         rtf = clock.rtf_over(measure_s)
         result = {"sim": "epuck_vrep_compat", "robots": n, "step_s": 0.05,
                   "scenario": "b_all_subscribed" if subscribe else "a_none_subscribed",
@@ -174,6 +181,39 @@ def run_ours(n, measure_s, subscribe, cell_m):
         master.terminate()
         master.wait(timeout=30)
         os.unlink(world)
+
+
+def run_floor(n, measure_s):
+    """The bare C++ sender of scenario (b)'s messages to the same subscriber (one record)."""
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
+    master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    settle_s = 5.0 + n / 50.0
+    sender = sub = None
+    try:
+        time.sleep(1.0)
+        sender = subprocess.Popen([os.path.join(HERE, "build", "floor_sender"), "--robots",
+                                   str(n), "--duration", str(settle_s + measure_s + 600)],
+                                  env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        sub = subprocess.Popen([os.path.join(HERE, "build", "subscribe_all"),
+                                "--regex", r"^/(ePuck\d+/.*|tf)$"], env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        time.sleep(settle_s)
+        sub.send_signal(signal.SIGUSR1)          # count from here, everything connected
+        time.sleep(measure_s)
+        sub.send_signal(signal.SIGINT)
+        stats = json.loads(sub.communicate(timeout=180)[0].decode().strip().splitlines()[-1])
+        sender.send_signal(signal.SIGINT)
+        sent = json.loads(sender.communicate(timeout=60)[0].decode().strip().splitlines()[-1])
+        return {"sender": "floor_cpp", "robots": n, "subscriber_topics": stats["topics"],
+                "subscriber_msgs_per_s": round(stats["rate_hz_total"]),
+                "sender_steps_rtf": sent["rtf"]}
+    finally:
+        for p in (sub, sender, master):
+            if p is not None and p.poll() is None:
+                p.kill()
+                p.wait(timeout=30)
 
 
 def run_enki_cpp(n, step_s, sim_seconds, cell_m):
@@ -212,6 +252,8 @@ def main():
     ap.add_argument("--measure-s", type=float, default=10.0)
     ap.add_argument("--cell-m", type=float, default=CELL_SIDE_M,
                     help="side of each robot's square start cell (m), for every simulator")
+    ap.add_argument("--floor", action="store_true",
+                    help="also measure (b)'s per-message floor with a bare C++ sender")
     ap.add_argument("--peers-only", action="store_true",
                     help="run only Enki C++ and pyenki (to check the peers quickly)")
     ap.add_argument("--json", help="append JSON lines here")
@@ -225,6 +267,9 @@ def main():
                                  capture_output=True, text=True)
             rows.append(json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0
                         else {"robots": n, "error": out.stderr[-500:]})
+            print(json.dumps(rows[-1]), flush=True)
+        if args.floor and not args.peers_only:
+            rows.append(run_floor(n, args.measure_s))
             print(json.dumps(rows[-1]), flush=True)
         for r in run_peers(n, args.cell_m):
             rows.append(r)
