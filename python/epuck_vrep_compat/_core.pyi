@@ -189,6 +189,8 @@ class EpuckSwarm:
         """Each (N, K)."""
     def set_imu_noise(self, accel_stddev: ArrayLike, gyro_stddev: ArrayLike) -> None:
         """Each (N, 3)."""
+    def set_imu_bias(self, accel_bias: ArrayLike, gyro_bias: ArrayLike) -> None:
+        """Each (N, 3): m/s^2 and rad/s, added to every reading."""
     def set_slip_noise(self, stddev: ArrayLike) -> None:
         """(N,)."""
     def reseed(self, seed: int) -> None: ...

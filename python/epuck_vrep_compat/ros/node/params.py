@@ -14,6 +14,7 @@ from epuck_vrep_compat.ros.epuck.commands import SCALINGS
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.sim.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
+from epuck_vrep_compat.sim.noise_presets import IMU_KEYS, load_noise_file, preset
 
 
 @dataclass
@@ -70,16 +71,17 @@ def read_params(default_world: str) -> SimParams:
 
 
 def _read_noise(n: int, profile: str) -> NoiseSettings:
-    s = NoiseSettings()
-    s.enabled = _get("noise", True, bool)
     try:
+        s = preset(_get("noise_preset", "real_robot", str))
+        noise_file = _get("noise_file", "", str)
+        if noise_file:
+            s = load_noise_file(noise_file, s)
+        s.enabled = s.enabled and _get("noise", True, bool)
         s.ir = _read_ir("ir_noise/", s.ir)
-        s.accel_stddev_m_s2 = triple(rospy.get_param("~imu_noise/accel_stddev_m_s2",
-                                                     s.accel_stddev_m_s2.tolist()),
-                                     "~imu_noise/accel_stddev_m_s2")
-        s.gyro_stddev_rad_s = triple(rospy.get_param("~imu_noise/gyro_stddev_rad_s",
-                                                     s.gyro_stddev_rad_s.tolist()),
-                                     "~imu_noise/gyro_stddev_rad_s")
+        for key in IMU_KEYS:
+            name = "~imu_noise/" + key
+            setattr(s, key, triple(rospy.get_param(name, getattr(s, key).tolist()), name,
+                                   None if "bias" in key else 0.0))
         robots = rospy.get_param("~robots", {})
         if not isinstance(robots, dict):
             raise ParamError("parameter '~robots' must be a mapping of robot name to overrides")
