@@ -87,3 +87,13 @@ def read_series(path, topics: RobotTopics) -> Series:
     ends = [m[-1][0] - t0 for m in by_topic.values() if m]
     s.duration_s = max(ends) if ends else 0.0
     return s
+
+
+def read_scenario_bag(path, robot, scenario) -> Series:
+    """The robot's series for a scenario; BagError naming the scenario's topics the bag lacks."""
+    topics = choose_robot(path, robot)
+    missing = topics.missing(scenario)
+    if missing:
+        raise BagError(f"bag {path} lacks the {scenario.name} scenario's topics: "
+                       + ", ".join(missing))
+    return read_series(path, topics)

@@ -26,7 +26,7 @@ import sys
 import numpy as np
 import yaml
 
-from epuck_vrep_compat.fidelity.bag_data import BagError, choose_robot, read_series
+from epuck_vrep_compat.fidelity.bag_data import BagError, read_scenario_bag
 from epuck_vrep_compat.fidelity.scenarios import SCENARIOS
 from epuck_vrep_compat.fidelity.stats import fit_axes, fit_ir
 
@@ -102,26 +102,27 @@ def parse(argv):
     return parser.parse_args(argv)
 
 
+def write_noise_file(series, scenario, bag, out, wheel_slip=0.02, step_s=0.05):
+    """Fits and writes the noise file ``out``; returns its mapping."""
+    data, info = fit(series, scenario, wheel_slip, step_s)
+    data["fit"] = dict(info, bag=os.path.abspath(bag))
+    with open(out, "w", encoding="utf-8") as f:
+        f.write(f"# fit_noise {os.path.basename(bag)} --scenario {scenario.name}: load "
+                "with noise_file:=<this file>\n")
+        yaml.safe_dump(data, f, sort_keys=False, default_flow_style=None)
+    return data
+
+
 def main(argv=None):
     args = parse(sys.argv[1:] if argv is None else argv)
     scenario = SCENARIOS[args.scenario]
     try:
-        topics = choose_robot(args.bag, args.robot)
-        missing = topics.missing(scenario)
-        if missing:
-            raise BagError(f"bag {args.bag} lacks the {scenario.name} scenario's topics: "
-                           + ", ".join(missing))
-        series = read_series(args.bag, topics)
+        series = read_scenario_bag(args.bag, args.robot, scenario)
     except BagError as e:
         print(f"fit_noise: {e}", file=sys.stderr)
         return 1
-    data, info = fit(series, scenario, args.wheel_slip, args.step)
-    data["fit"] = dict(info, bag=os.path.abspath(args.bag))
     out = args.output or os.path.splitext(args.bag)[0] + "_noise.yaml"
-    with open(out, "w", encoding="utf-8") as f:
-        f.write(f"# fit_noise {os.path.basename(args.bag)} --scenario {scenario.name}: load "
-                "with noise_file:=<this file>\n")
-        yaml.safe_dump(data, f, sort_keys=False, default_flow_style=None)
+    write_noise_file(series, scenario, args.bag, out, args.wheel_slip, args.step)
     print(f"fit_noise: {out} ({len(series.ir)} IR topics, "
           f"{0 if series.imu_t is None else series.imu_t.size} IMU samples)")
     return 0

@@ -54,7 +54,8 @@ def load_noise_file(path: str, base: NoiseSettings) -> NoiseSettings:
             data = yaml.safe_load(f)
     except (OSError, yaml.YAMLError) as e:
         raise NoiseConfigError(f"parameter '~noise_file': cannot read {path}: {e}") from e
-    return apply_mapping(data if data is not None else {}, base, f"{path}: ")
+    return apply_mapping(data if data is not None else {}, base,
+                         f"parameter '~noise_file' ({path}): ")
 
 
 def apply_mapping(data, base: NoiseSettings, where: str = "") -> NoiseSettings:
