@@ -10,6 +10,8 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, LaserScan, Range
 
+from epuck_vrep_compat.sim import paper_robot as paper
+
 from sim_test_helpers import PKG, RosoutGuard, simulator_topics, wait_for_message
 
 ROBOTS = ("epuck_robot_0", "epuck_robot_1")
@@ -58,8 +60,9 @@ class ProfileDriver(unittest.TestCase):
         self.assertEqual(accel.angular_velocity.z, 0.0)
         self.assertEqual(accel.angular_velocity_covariance[0], -1.0)  # no gyroscope
         np.testing.assert_allclose(np.reshape(accel.linear_acceleration_covariance, (3, 3)),
-                                   np.diag(np.square([0.03559, 0.03079, 0.04930])))
-        self.assertAlmostEqual(accel.linear_acceleration.z, 9.81, delta=0.3)
+                                   np.diag(np.square(paper.ACCEL_STDDEV_M_S2)))
+        self.assertAlmostEqual(accel.linear_acceleration.z, paper.TABLE1_REAL_MEAN_M_S2[2],
+                               delta=0.3)
 
     def test_tf(self):
         buf = tf2_ros.Buffer()
