@@ -110,3 +110,16 @@ def test_unreadable_bag_exits_1(tmp_path, capsys, content):
     assert main([str(bag), "--scenario", "rest"]) == 1
     assert "cannot read bag" in capsys.readouterr().err
     assert main([str(tmp_path / "missing.bag"), "--scenario", "rest"]) == 1
+
+
+def test_wall_fits_the_wall_sensors_after_the_reversal_and_pools_the_others(tmp_path):
+    bag, out = str(tmp_path / "wall.bag"), str(tmp_path / "w.yaml")
+    make_bag(bag, "ePuck0", "imu", 0.0, 200)          # no reversal recorded: 3 s assumed
+    assert main([bag, "--scenario", "wall", "-o", out]) == 0
+    data = yaml.safe_load(open(out))
+    assert sorted(data["fit"]["ir"]) == [f"proximity{k}" for k in (0, 1, 6, 7)]
+    # from 1 s after the 3 s drive: relative stamps 4.0 .. 9.95 s (the first may round below)
+    assert data["fit"]["ir"]["proximity0"]["samples"] in (119, 120)
+    assert "imu_noise" not in data and "accel" not in data["fit"]
+    p = data["ir_noise"]["probability"]
+    assert p[2] == p[3] == p[4] == p[5] == pytest.approx(np.mean([p[0], p[1], p[6], p[7]]))
