@@ -34,10 +34,12 @@ class SimParams:
     publish_ground_truth: bool = True
     camera: CameraSpec = field(default_factory=CameraSpec)
     noise: NoiseSettings = field(default_factory=NoiseSettings)
+    noise_source: str = "real_robot"      # the preset, and the noise file over it if any
 
     def summary(self) -> str:
         return (f"world={self.world} n={self.n} profile={self.profile} seed={self.seed} "
-                f"noise={'on' if self.noise.enabled else 'off'} rtf={self.rtf} "
+                f"noise={'on' if self.noise.enabled else 'off'} ({self.noise_source}) "
+                f"rtf={self.rtf} "
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
                 f"{self.camera.width}x{self.camera.height}@{self.camera.rate_hz}Hz")
@@ -66,16 +68,19 @@ def read_params(default_world: str) -> SimParams:
     c.rate_hz = _get("camera/rate_hz", c.rate_hz, float, lambda v: v > 0.0, "must be > 0")
     c.vertical_fov_rad = _get("camera/vertical_fov_rad", c.vertical_fov_rad, float,
                               lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
-    p.noise = _read_noise(p.n, p.profile)
+    p.noise, p.noise_source = _read_noise(p.n, p.profile)
     return p
 
 
-def _read_noise(n: int, profile: str) -> NoiseSettings:
+def _read_noise(n: int, profile: str):
+    """(NoiseSettings, where they come from: the preset and the noise file)."""
     try:
-        s = preset(_get("noise_preset", "real_robot", str))
+        source = _get("noise_preset", "real_robot", str)
+        s = preset(source)
         noise_file = _get("noise_file", "", str)
         if noise_file:
             s = load_noise_file(noise_file, s)
+            source += " + " + noise_file
         s.enabled = s.enabled and _get("noise", True, bool)
         s.ir = _read_ir("ir_noise/", s.ir)
         for key in IMU_KEYS:
@@ -95,7 +100,7 @@ def _read_noise(n: int, profile: str) -> NoiseSettings:
         raise ParamError(str(e)) from e
     s.wheel_slip_stddev = _get("wheel_slip_stddev", s.wheel_slip_stddev, float,
                                lambda v: v >= 0.0, "must be >= 0")
-    return s
+    return s, source
 
 
 def _read_ir(prefix: str, base: IrNoise) -> IrNoise:
