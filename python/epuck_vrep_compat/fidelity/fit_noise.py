@@ -33,11 +33,16 @@ from epuck_vrep_compat.fidelity.stats import fit_axes, fit_ir
 GRAVITY_M_S2 = 9.81       # the simulator's g (its e-puck model)
 
 
-def imu_window(series, scenario):
-    """Mask of the IMU samples the scenario's fit uses."""
-    t = series.imu_t
-    if scenario.name != "straight" or series.cmd_t is None:
-        return np.ones(t.size, bool) if scenario.name != "straight" else t >= 1.0
+def imu_window(series, scenario, t=None):
+    """Mask of the IMU samples (at times ``t``, by default the series' own) that the scenario's
+    fit uses: all of them, except while driving straight, where only the steady part counts
+    (from 0.5 s after the series' commands start moving to their last moving one; without
+    commands, from 1 s on)."""
+    t = series.imu_t if t is None else t
+    if scenario.name != "straight":
+        return np.ones(t.size, bool)
+    if series.cmd_t is None:
+        return t >= 1.0
     moving = series.cmd_t[np.abs(series.cmd_v) > 1e-9]
     if moving.size == 0:
         return np.ones(t.size, bool)
@@ -73,6 +78,7 @@ def fit(series, scenario, wheel_slip, step_s):
             motion = speed * wheel_slip / step_s
             fit_info["accel_x_motion_stddev_m_s2"] = motion
             sd[0] = math.sqrt(max(sd[0] ** 2 - motion ** 2, 0.0))
+            data["wheel_slip_stddev"] = wheel_slip     # the slip that correction assumed
         data["imu_noise"] = {
             "accel_bias_m_s2": [a["value"] for a in accel["bias"]],
             "accel_stddev_m_s2": sd,

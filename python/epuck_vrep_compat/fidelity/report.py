@@ -20,8 +20,9 @@ def _row(label, values):
     return f"| {label} | " + " | ".join("—" if np.isnan(v) else f"{v:.5f}" for v in values) + " |"
 
 
-def table1(sources):
-    """Table 1's layout: per accelerometer axis and per source, then per IR sensor."""
+def table1(sources, ir_sources=None):
+    """Table 1's layout: per accelerometer axis and per source, then per IR sensor (of
+    ``ir_sources`` when given)."""
     head = "| | " + " | ".join(SUMMARY_COLUMNS) + " |\n|" + " --- |" * (len(SUMMARY_COLUMNS) + 1)
     lines = ["### Accelerometer [m/s²]", "", head]
     for axis, name in enumerate("xyz"):
@@ -30,7 +31,7 @@ def table1(sources):
                 lines.append(_row(f"{label} {name}", summary(s.accel[:, axis])))
     lines += ["", "### Proximity sensors [m]", "", head]
     for k in range(8):
-        for label, s in sources.items():
+        for label, s in (ir_sources or sources).items():
             if k in s.ir:
                 lines.append(_row(f"{label} proximity{k}", summary(s.ir[k][1])))
     return "\n".join(lines)
@@ -50,6 +51,10 @@ def fitted_table(noise):
                 for axis, est in zip("xyz", fit[sensor][kind]):
                     lines.append(_fit_row(f"{sensor} {axis} {kind} [{unit}]", est,
                                           fit[sensor]["samples"]))
+    if "accel_x_motion_stddev_m_s2" in fit:
+        lines.append(f"| accel x stddev written: the sensor's own, less wheel slip's "
+                     f"{fit['accel_x_motion_stddev_m_s2']:.6f} [m/s²] | "
+                     f"{noise['imu_noise']['accel_stddev_m_s2'][0]:.6f} | | |")
     return "\n".join(lines)
 
 

@@ -21,7 +21,7 @@ import rospy
 from epuck_vrep_compat.fidelity import report
 from epuck_vrep_compat.fidelity.bag_data import (BagError, choose_robot, read_scenario_bag,
                                                  read_series)
-from epuck_vrep_compat.fidelity.fit_noise import ir_window, write_noise_file
+from epuck_vrep_compat.fidelity.fit_noise import imu_window, ir_window, write_noise_file
 from epuck_vrep_compat.fidelity.scenarios import SCENARIOS
 from epuck_vrep_compat.fidelity.sim_run import SimulatorRun, ensure_master, stop_master
 
@@ -61,30 +61,40 @@ def _share():
     return rospkg.RosPack().get_path("epuck_vrep_compat")
 
 
-def errors_only(sources, scenario):
-    """Copies of the series keeping the IR readings the noise fit uses (all but wall's)."""
+def fitted_part(sources, scenario):
+    """Copies of the series keeping what the noise fit uses: the IR readings in open space
+    (wall: after the reversal) and the steady IMU samples (straight: as the paper's Table 1,
+    without the start and the stop). The windows come from the real bag's commands, which
+    the simulated runs replayed."""
+    real = sources["real"]
     kept = {}
     for label, s in sources.items():
         c = copy.copy(s)
-        c.ir = {k: tuple(a[ir_window(s, scenario, t)] if isinstance(a, np.ndarray) else a
+        c.ir = {k: tuple(a[ir_window(real, scenario, t)] if isinstance(a, np.ndarray) else a
                          for a in (t, r, m)) for k, (t, r, m) in s.ir.items()}
+        if s.imu_t is not None:
+            mask = imu_window(real, scenario, s.imu_t)
+            c.imu_t, c.accel, c.gyro = s.imu_t[mask], s.accel[mask], s.gyro[mask]
         kept[label] = c
     return kept
 
 
 def write_report(args, scenario, sources, noise):
     out = args.output
+    fitted = fitted_part(sources, scenario)
     figures = [report.plot_accel(sources, os.path.join(out, "accel.png")),
                report.plot_proximity(sources, os.path.join(out, "proximity.png")),
-               report.plot_errors(errors_only(sources, scenario),
-                                  os.path.join(out, "ir_errors.png"), scenario.ir_sensors)]
+               report.plot_errors(fitted, os.path.join(out, "ir_errors.png"),
+                                  scenario.ir_sensors)]
     text = [f"# Simulated vs real: {os.path.basename(args.bag)}, scenario {scenario.name}", "",
             f"Robot {sources['real'].robot}, {sources['real'].duration_s:.2f} s. Sources: real "
             "(the bag), sim_fitted (the simulator with the noise fitted from it: "
             "fitted_noise.yaml), sim_ideal (no noise).", "", "## Fitted noise", "",
             report.fitted_table(noise), "", "## Table 1: statistics", "",
-            report.table1(sources), "", "## IR error rate (readings below max range)", "",
-            report.error_rates(errors_only(sources, scenario)), "", "## Figures", ""]
+            "The accelerometer over the samples the fit uses (straight: the steady drive, "
+            "without start and stop, as Table 1); the proximity sensors over every reading.", "",
+            report.table1(fitted, sources), "", "## IR error rate (readings below max range)", "",
+            report.error_rates(fitted), "", "## Figures", ""]
     text += [f"![{f}]({f})" for f in figures]
     path = os.path.join(out, "report.md")
     with open(path, "w", encoding="utf-8") as f:
