@@ -1,8 +1,9 @@
 #!/usr/bin/python3
-"""sim_vs_real end to end on a simulator-made "real" bag: a rest scenario of 6 s made by the
-simulator's core with known, non-default noise, written in the epuck_driver profile's names.
-The report exists, its fitted-noise table holds fit_noise's values, its PNGs are 800 x 600, and
-the simulated run with the fitted noise shows the bag's accelerometer bias."""
+"""sim_vs_real end to end on a simulator-made "real" bag: 6 s of the straight scenario (1 s
+standing, then 4 cm/s) made by the simulator's core with known, non-default noise, written in
+the epuck_driver profile's names. The report exists, its fitted-noise table holds fit_noise's
+values, its PNGs are 800 x 600, the simulated run with the fitted noise shows the bag's
+accelerometer bias, and the bag's cmd_vel was replayed (the noise-free run's start jolt)."""
 import os
 import re
 import subprocess
@@ -11,6 +12,7 @@ import tempfile
 import unittest
 
 import numpy as np
+import rosbag
 import rostest
 import yaml
 from matplotlib.image import imread
@@ -25,8 +27,8 @@ class SimVsReal(unittest.TestCase):
     def test_report_end_to_end(self):
         out = tempfile.mkdtemp(prefix="sim_vs_real_")
         bag = os.path.join(out, "real.bag")
-        make_bag(bag, "epuck_robot_0", "accel", 0.0, 120)           # 6 s at rest
-        proc = subprocess.run(["rosrun", PKG, "sim_vs_real", bag, "--scenario", "rest",
+        make_bag(bag, "epuck_robot_0", "accel", 0.04, 120)          # 6 s, moving from 1 s
+        proc = subprocess.run(["rosrun", PKG, "sim_vs_real", bag, "--scenario", "straight",
                                "-o", os.path.join(out, "report")],
                               capture_output=True, text=True, timeout=600)
         self.assertEqual(proc.returncode, 0, proc.stderr[-3000:])
@@ -50,6 +52,14 @@ class SimVsReal(unittest.TestCase):
             r"\| (\w+) x \| [-\d.]+ \| [-\d.]+ \| [-\d.]+ \| ([-\d.]+) \|", text)}
         self.assertAlmostEqual(means["sim_fitted"], TRUE.accel_bias_m_s2[0], delta=0.02)
         self.assertAlmostEqual(means["sim_ideal"], 0.0, delta=1e-6)
+        # Replayed: 0.04 m/s reached within one 50 ms step, about 1 s in (the bag's time).
+        with rosbag.Bag(os.path.join(report_dir, "sim_ideal.bag")) as b:
+            jolt = [(m.header.stamp.to_sec(), m.linear_acceleration.x)
+                    for _, m, _ in b.read_messages(topics=["/ePuck0/imu"])
+                    if abs(m.linear_acceleration.x) > 0.1]
+        self.assertEqual(len(jolt), 1, jolt)
+        self.assertAlmostEqual(jolt[0][1], 0.8, delta=0.01)
+        self.assertAlmostEqual(jolt[0][0], 1.0, delta=0.2)
 
     def test_bag_lacking_topics_exits_1(self):
         out = tempfile.mkdtemp(prefix="sim_vs_real_")
