@@ -14,7 +14,7 @@ import rostest
 import yaml
 from sensor_msgs.msg import Imu, Range
 
-from sim_test_helpers import PKG, wait_sim_time
+from sim_test_helpers import PKG, unpause_when_subscribed, wait_sim_time
 
 # The simulated seconds recorded: a fixed window, so the sample is the same whatever the
 # moment this node connects (it must connect before the window opens).
@@ -40,6 +40,7 @@ class FitNoiseRecorded(unittest.TestCase):
             topics = [(f"/{ROBOT}/proximity{k}", Range) for k in range(8)]
             subs = [rospy.Subscriber(t, c, write, t, queue_size=1000)
                     for t, c in topics + [(f"/{ROBOT}/imu", Imu)]]
+            unpause_when_subscribed(subs)
             wait_sim_time(WINDOW_S[1] + 0.5, timeout_s=600.0)
             for s in subs:
                 s.unregister()

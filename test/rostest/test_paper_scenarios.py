@@ -13,10 +13,9 @@ import unittest
 import numpy as np
 import rospy
 import rostest
-from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, wait_for_message
+from sim_test_helpers import PKG, Collector, RosoutGuard, unpause_when_subscribed
 
 TABLE1_MEAN = np.array([-0.05254, -0.26087, 9.68479])
 TABLE1_SD = np.array([0.03559, 0.03079, 0.04930])
@@ -31,9 +30,9 @@ class PaperScenario(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("test_paper_scenarios")
         cls.guard = RosoutGuard()
-        wait_for_message("/clock", Clock, 60.0)
         cls.ir = [Collector(f"/ePuck0/proximity{k}", Range) for k in range(8)]
         cls.imu = Collector("/ePuck0/imu", Imu)
+        unpause_when_subscribed(cls.ir + [cls.imu])
 
     def test_scenario(self):
         getattr(self, "check_" + rospy.get_param("~scenario"))()
