@@ -20,13 +20,15 @@ import rospy
 from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
+from std_srvs.srv import Empty
 
 ROBOT = "ePuck0"
 START_TIMEOUT_S = 120.0       # wall time for a simulator to publish its first /clock
 
 
 class SimulatorRun:
-    """One simulated run, recorded into ``bag_path``."""
+    """One simulated run, recorded into ``bag_path`` (roslaunch's output beside it,
+    ``<label>.launch.log``)."""
 
     def __init__(self, label, world, launch_args, bag_path):
         self.label, self.world, self.launch_args, self.bag_path = (label, world, launch_args,
@@ -39,9 +41,12 @@ class SimulatorRun:
         """Launch, replay ``commands`` ((t, speed) sorted, or a callable t -> speed), record
         ``duration_s`` of simulated time, shut the simulator down."""
         args = ["roslaunch", "epuck_vrep_compat", "epucks.launch", f"world:={self.world}",
-                f"seed:={seed}", f"rtf:={rtf}", "n:=1"] + self.launch_args
-        proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                start_new_session=True)
+                f"seed:={seed}", f"rtf:={rtf}", "n:=1", "paused:=true"] + self.launch_args
+        log_path = os.path.splitext(self.bag_path)[0] + ".launch.log"
+        with open(log_path, "wb") as log:     # the child keeps its own descriptor
+            proc = subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT,
+                                    start_new_session=True)
+        proc.log_path = log_path
         self._bag = rosbag.Bag(self.bag_path, "w")
         subs = [rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=100)]
         subs += [rospy.Subscriber(f"/{ROBOT}/proximity{k}", Range, self._write,
@@ -50,7 +55,7 @@ class SimulatorRun:
                                      queue_size=1000))
         pub = rospy.Publisher(f"/{ROBOT}/cmd_vel", Twist, queue_size=10)
         try:
-            self._wait_start(proc)
+            self._wait_start(proc, subs, pub)
             self._drive(pub, duration_s, commands)
         finally:
             for s in subs:
@@ -73,15 +78,27 @@ class SimulatorRun:
         with self._lock:
             return self._clock
 
-    def _wait_start(self, proc):
+    def _wait_start(self, proc, subs, pub):
+        """Waits for the simulator (started paused) to connect to every subscriber, unpauses
+        it, and waits for its first /clock: nothing of the run is missed."""
         deadline = time.monotonic() + START_TIMEOUT_S
-        while self.now() <= 0.0:
-            if proc.poll() is not None:
-                raise RuntimeError(f"the simulator ended with status {proc.returncode}: "
-                                   f"{proc.stderr.read().decode(errors='replace')[-2000:]}")
-            if time.monotonic() > deadline:
-                raise RuntimeError(f"no /clock from the simulator in {START_TIMEOUT_S} s")
+        while any(s.get_num_connections() == 0 for s in subs[1:] + [pub]):
+            self._check_alive(proc, deadline)
             time.sleep(0.01)
+        rospy.wait_for_service("/vrep/unpause", timeout=START_TIMEOUT_S)
+        rospy.ServiceProxy("/vrep/unpause", Empty)()
+        while self.now() <= 0.0:
+            self._check_alive(proc, deadline)
+            time.sleep(0.01)
+
+    @staticmethod
+    def _check_alive(proc, deadline):
+        if proc.poll() is not None:
+            with open(proc.log_path, "rb") as log:
+                tail = log.read().decode(errors="replace")[-2000:]
+            raise RuntimeError(f"the simulator ended with status {proc.returncode}: {tail}")
+        if time.monotonic() > deadline:
+            raise RuntimeError(f"the simulator did not start in {START_TIMEOUT_S} s")
 
     def _drive(self, pub, duration_s, commands):
         shown, sent, cmd = -1, 0, Twist()
