@@ -20,15 +20,11 @@ import pybullet as pb
 from epuck_vrep_compat.devices.arm_joint import POSITION, VELOCITY, ArmJoint
 from epuck_vrep_compat.devices.kinematics import load_urdf_chain
 from epuck_vrep_compat.devices.link_collisions import Collision, parse_collisions
+from epuck_vrep_compat.devices.mecanum import (
+    MAX_WHEEL_SPEED_M_S, WHEEL_LX_PLUS_LY_M, WHEELS, body_twist, wheel_speeds)
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
     IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_yaw, quat_mul, quat_rotate)
-
-# youBot mecanum base: wheel radius and half wheel base + half track (models.md 4.1)
-WHEELS = ("fl", "rl", "rr", "fr")
-WHEEL_RADIUS_M = 0.0475
-WHEEL_LX_PLUS_LY_M = 0.228 + 0.158
-MAX_WHEEL_SPEED_M_S = 0.8       # the youBot datasheet's top speed (models.md 4.1)
 
 
 def _z_to_axis(axis):
@@ -55,6 +51,7 @@ class ArticulatedRobot:
         self.base_z = float(spec.position_m[2])
         self.twist = np.zeros(3)               # body-frame vx, vy, wz (mobile bases)
         self.external = False                  # a client commanded it: the script stops
+        self.wheel_driven = False              # the base follows its wheels, not its twist
         position, quat = self.base_pose()
         self.body = pb.loadURDF(spec.urdf, position.tolist(), quat.tolist(), useFixedBase=True,
                                 flags=pb.URDF_USE_INERTIA_FROM_FILE
@@ -75,7 +72,7 @@ class ArticulatedRobot:
         self.joints: List[ArmJoint] = []
         self.objects: Dict[str, reg.SceneObject] = {}
         self._register(registry, movable)
-        # mecanum wheels (youBot): driven from the base's twist
+        # mecanum wheels (youBot): driven from the base's twist, or driving it
         self.wheels = {w: self.movable_index(f"rollingJoint_{w}") for w in WHEELS}
         self.wheels = {w: k for w, k in self.wheels.items() if k is not None}
         # link frames in the world, refreshed every step (index = pybullet link index + 1)
@@ -125,10 +122,14 @@ class ArticulatedRobot:
 
     # --- commands ---------------------------------------------------------------------------
     def command(self, k: int, mode: str, value: float, external: bool = True):
+        """A joint's command; a client's command on a mecanum wheel hands the base to the
+        wheels (as V-REP's youBot is driven), until the next twist command."""
         if self.mode[k] != mode or self.target[k] != value:
             self.mode[k], self.target[k] = mode, value
             self.dirty[k] = True
         self.external = self.external or external
+        if external and self.spec.mobile and k in self.wheels.values():
+            self.wheel_driven = True
 
     def reset_joint(self, k: int, value: float):
         pb.resetJointState(self.body, self.joint_bullet[k], value, 0.0,
@@ -144,6 +145,7 @@ class ArticulatedRobot:
         scale = min(1.0, MAX_WHEEL_SPEED_M_S / fastest)
         self.twist[:] = (vx * scale, vy * scale, wz * scale)
         self.external = self.external or external
+        self.wheel_driven = False
         return tuple(float(v) for v in self.twist)
 
     def apply_commands(self):
@@ -165,16 +167,19 @@ class ArticulatedRobot:
                                          physicsClientId=self.client)
 
     def move_base(self, dt: float):
-        """Mobile bases move kinematically by their body-frame twist; mecanum wheels turn to
-        match (inverse kinematics of a 4-wheel mecanum base)."""
+        """Mobile bases move kinematically by their body-frame twist, and the mecanum wheels
+        turn to match; or, once a client drove the wheels, the twist is the wheels' (forward
+        kinematics of their velocity targets, or of their speeds under position control)."""
         if not self.spec.mobile:
             return
+        if self.wheel_driven and len(self.wheels) == len(WHEELS):
+            self.twist[:] = body_twist({w: self.target[k] if self.mode[k] == VELOCITY
+                                        else self.qd[k] for w, k in self.wheels.items()})
+        else:
+            for w, omega in wheel_speeds(*self.twist).items():
+                if w in self.wheels:
+                    self.command(self.wheels[w], VELOCITY, omega, external=False)
         vx, vy, wz = self.twist
-        spin = WHEEL_LX_PLUS_LY_M * wz
-        speeds = {"fl": vx - vy - spin, "rl": vx + vy - spin, "rr": vx - vy + spin,
-                  "fr": vx + vy + spin}
-        for w, k in self.wheels.items():
-            self.command(k, VELOCITY, speeds[w] / WHEEL_RADIUS_M, external=False)
         if not self.twist.any():
             return
         x, y, yaw = self.base_xy_yaw
@@ -210,7 +215,7 @@ class ArticulatedRobot:
         self.base_z = float(self.spec.position_m[2])
         self.place_base()
         self.twist[:] = 0.0
-        self.external = False
+        self.external = self.wheel_driven = False
         for k, joint in enumerate(self.joints):
             home = joint._clamped(0.0)
             pb.resetJointState(self.body, self.joint_bullet[k], home, 0.0,
