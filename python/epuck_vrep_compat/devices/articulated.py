@@ -52,6 +52,8 @@ class ArticulatedRobot:
         self.twist = np.zeros(3)               # body-frame vx, vy, wz (mobile bases)
         self.external = False                  # a client commanded it: the script stops
         self.wheel_driven = False              # the base follows its wheels, not its twist
+        self.speed_scale = 1.0                 # a safety supervisor's override, 0..1
+        self.script_time = 0.0                 # the script's clock, slowed by the scale
         position, quat = self.base_pose()
         self.body = pb.loadURDF(spec.urdf, position.tolist(), quat.tolist(), useFixedBase=True,
                                 flags=pb.URDF_USE_INERTIA_FROM_FILE
@@ -148,20 +150,34 @@ class ArticulatedRobot:
         self.wheel_driven = False
         return tuple(float(v) for v in self.twist)
 
+    def set_speed_scale(self, scale: float):
+        """A safety override of every motion of the robot (script, position and velocity
+        commands, the base): speeds times ``scale``, clamped to [0, 1]; 0 holds every joint
+        where it is (a protective stop) until the scale rises again."""
+        scale = min(max(float(scale), 0.0), 1.0)
+        if scale != self.speed_scale:
+            self.speed_scale = scale
+            self.dirty = [True] * len(self.dirty)
+
     def apply_commands(self):
+        scale = self.speed_scale
         for k, joint in enumerate(self.joints):
             if not self.dirty[k]:
                 continue
             self.dirty[k] = False
             index, force = self.joint_bullet[k], joint.max_force
-            if self.mode[k] == POSITION:
+            if scale == 0.0:        # pybullet reads maxVelocity 0 as "no limit": hold instead
+                pb.setJointMotorControl2(self.body, index, pb.VELOCITY_CONTROL,
+                                         targetVelocity=0.0, force=force,
+                                         physicsClientId=self.client)
+            elif self.mode[k] == POSITION:
                 pb.setJointMotorControl2(self.body, index, pb.POSITION_CONTROL,
                                          targetPosition=float(self.target[k]), force=force,
-                                         maxVelocity=joint.max_velocity,
+                                         maxVelocity=joint.max_velocity * scale,
                                          physicsClientId=self.client)
             else:
                 limit = joint.max_velocity
-                velocity = min(max(float(self.target[k]), -limit), limit)
+                velocity = min(max(float(self.target[k]), -limit), limit) * scale
                 pb.setJointMotorControl2(self.body, index, pb.VELOCITY_CONTROL,
                                          targetVelocity=velocity, force=force,
                                          physicsClientId=self.client)
@@ -179,8 +195,8 @@ class ArticulatedRobot:
             for w, omega in wheel_speeds(*self.twist).items():
                 if w in self.wheels:
                     self.command(self.wheels[w], VELOCITY, omega, external=False)
-        vx, vy, wz = self.twist
-        if not self.twist.any():
+        vx, vy, wz = self.twist * self.speed_scale
+        if not (vx or vy or wz):
             return
         x, y, yaw = self.base_xy_yaw
         mid = yaw + 0.5 * wz * dt
@@ -216,6 +232,7 @@ class ArticulatedRobot:
         self.place_base()
         self.twist[:] = 0.0
         self.external = self.wheel_driven = False
+        self.script_time = 0.0
         for k, joint in enumerate(self.joints):
             home = joint._clamped(0.0)
             pb.resetJointState(self.body, self.joint_bullet[k], home, 0.0,

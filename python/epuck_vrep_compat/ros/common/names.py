@@ -11,3 +11,8 @@ NODE_NAMESPACE = NODE + "/"             # its private namespace: services, strea
 ODOM_FRAME = "odom"                     # the fixed frame of the e-pucks (and the cell's odom)
 TF_TOPIC = "/tf"
 CLOCK_TOPIC = "/clock"
+
+# The cell's safety interface (issue 13): a supervisor's speed override per robot, in; the
+# operator-to-link separation from the simulator's collision world, a service of /vrep.
+SPEED_SCALE_TOPIC = "/{robot}/speed_scale"              # std_msgs/Float64, 0..1
+OPERATOR_SEPARATION_SERVICE = NODE_NAMESPACE + "operator_separation"
