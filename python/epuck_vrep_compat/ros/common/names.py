@@ -16,3 +16,6 @@ CLOCK_TOPIC = "/clock"
 # operator-to-link separation from the simulator's collision world, a service of /vrep.
 SPEED_SCALE_TOPIC = "/{robot}/speed_scale"              # std_msgs/Float64, 0..1
 OPERATOR_SEPARATION_SERVICE = NODE_NAMESPACE + "operator_separation"
+# The operator's blob, published by the ceiling cameras' child scripts through the plugin
+# (thesis 5.1): the thesis's nodes and the operator tracker read it.
+BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
