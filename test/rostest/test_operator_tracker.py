@@ -66,7 +66,7 @@ class OperatorTracking(unittest.TestCase):
 
     def test_1_error_bounded_then_one_camera_removed(self):
         errors, variances = self.track.collect(2 * WALK_CYCLE_S)
-        self.report("both cameras and the laser", errors, variances)
+        self.report("both cameras, the laser and the Kinect", errors, variances)
         self.assertGreater(len(errors), 0.8 * 20 * 2 * WALK_CYCLE_S)   # 20 Hz held
         self.assertLess(errors.mean(), 0.12)
         self.assertLess(np.percentile(errors, 95), 0.3)

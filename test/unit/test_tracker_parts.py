@@ -61,3 +61,26 @@ def test_the_filter_follows_a_walk_and_refuses_an_outlier():
     assert not f.update(np.array([f.x[0] + 3.0, 0.0]), r)     # 3 m off: refused
     f.predict(f.t + 1.0)
     assert f.P.trace() > before                               # no measurement: grows
+
+
+def test_the_kinect_ranges_him_along_its_ray_and_sees_occlusion():
+    from epuck_vrep_compat.nodes.tracker_kinect import BODY_CENTRE_M, KinectRange
+    from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_mul
+    kinect = KinectRange(57.0)
+    # a sensor at 1 m height looking along world +x (its z): y rotation by +90 deg about y
+    # maps z to x; then its x (image left) must be world +y: roll about x by -90 deg
+    quat = quat_mul(quat_from_axis_angle((0, 1, 0), math.pi / 2),
+                    quat_from_axis_angle((0, 0, 1), math.pi / 2))
+    position = np.array([0.0, 0.0, 1.0])
+    truth = np.array([3.0, 0.4])
+    local_z = truth[0] - 0.2                       # his front surface, along the axis
+    depth = np.full((480, 640), local_z, dtype=np.float32)
+    estimate = truth + (0.0, 0.1)
+    xy, cov = kinect.measurement(depth, position, quat, estimate)
+    ray = estimate / np.linalg.norm(estimate)      # the ray through the estimate
+    assert abs((xy - truth) @ ray) < 0.05          # the range is right ...
+    assert (ray @ cov @ ray) < 0.01 and np.trace(cov) > 1.0   # ... and only the range counts
+    assert BODY_CENTRE_M > 0
+    depth[:] = 1.0                                 # something 1 m in front of the sensor
+    assert kinect.measurement(depth, position, quat, truth) is None
+    assert kinect.measurement(depth, position, quat, np.array([-3.0, 0.0])) is None  # behind

@@ -7,6 +7,8 @@ simulator's topics only (as the thesis's nodes are).
 - The laser (``/vrep/front_scan``, placed by TF): of the returns short of the background, the
   person-sized cluster nearest the cameras' estimate (the filter's prediction while no camera
   sees him).
+- The Kinect (``/kinect/depth/image`` from the thesis's ``[/kinect]`` node, placed by TF): the
+  depth about the estimate's projection, a range along its ray (:mod:`tracker_kinect`).
 - A constant-velocity Kalman filter (:mod:`tracker_filter`) fuses them with each sensor's
   noise, so the track goes on while a sensor loses the operator (out of a camera's view, behind
   the table for the laser), its covariance growing.
@@ -17,21 +19,24 @@ Published (``~rate_hz``, simulated time, in ``world``): ``~pose``
 ellipse). Parameters: ``~rate_hz`` (20), ``~camera0_matrix``, ``~camera1_matrix`` (the
 thesis's), ``~view_angle_deg`` (80), ``~blob_height_m`` (0.6), ``~camera_pair_sigma_m``
 (0.08), ``~camera_single_sigma_m`` (0.35), ``~laser_sigma_m`` (0.06), ``~laser_gate_m`` (0.8),
-``~fresh_s`` (0.15: older blobs are not used), ``~accel_density`` (4 m^2/s^3).
+``~fresh_s`` (0.15: older blobs are not used), ``~accel_density`` (4 m^2/s^3),
+``~kinect_fov_deg`` (57).
 """
 import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import PoseWithCovarianceStamped, TwistWithCovarianceStamped
-from sensor_msgs.msg import LaserScan
+from sensor_msgs.msg import Image, LaserScan
 from std_msgs.msg import Float32
 from visualization_msgs.msg import MarkerArray
 
 from epuck_vrep_compat.nodes import tracker_geometry as geo
 from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter
+from epuck_vrep_compat.nodes.tracker_kinect import KinectRange
 from epuck_vrep_compat.nodes.tracker_markers import estimate_markers
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import BLOB_TOPIC_FORMAT, WORLD_FRAME
+from epuck_vrep_compat.ros.common.names import (
+    BLOB_TOPIC_FORMAT, KINECT_DEPTH_IMAGE_TOPIC, WORLD_FRAME)
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 
 
@@ -67,6 +72,8 @@ class OperatorTracker:
         self.log = ThrottledLog()
         self.blobs = {(k, a): None for k in range(2) for a in "XY"}
         self.scan = None
+        self.depth = None
+        self.kinect = KinectRange(_positive("kinect_fov_deg", 57.0))
         self.background = geo.LaserBackground()
         self.refused = 0          # camera measurements refused in a row: the track is lost
         self.tf = tf2_ros.Buffer()
@@ -74,8 +81,10 @@ class OperatorTracker:
         self._subs = [rospy.Subscriber(BLOB_TOPIC_FORMAT.format(camera=k, axis=a), Float32,
                                        self._on_blob, (k, a), queue_size=4)
                       for (k, a) in self.blobs]
-        self._subs.append(rospy.Subscriber("/vrep/front_scan", LaserScan, self._on_scan,
-                                           queue_size=1))
+        self._subs += [rospy.Subscriber("/vrep/front_scan", LaserScan, self._on_scan,
+                                        queue_size=1),
+                       rospy.Subscriber(KINECT_DEPTH_IMAGE_TOPIC, Image, self._on_depth,
+                                        queue_size=1, buff_size=2 ** 22)]
         self.pose_pub = rospy.Publisher("~pose", PoseWithCovarianceStamped, queue_size=1)
         self.twist_pub = rospy.Publisher("~twist", TwistWithCovarianceStamped, queue_size=1)
         self.marker_pub = rospy.Publisher("~markers", MarkerArray, queue_size=1)
@@ -88,6 +97,36 @@ class OperatorTracker:
 
     def _on_scan(self, msg):
         self.scan = msg
+
+    def _on_depth(self, msg):
+        if msg.encoding == "32FC1":
+            self.depth = msg
+
+    def _sensor_pose(self, frame):
+        """(position, quaternion) of a sensor frame in the world, or None (warned)."""
+        try:
+            t = self.tf.lookup_transform(WORLD_FRAME, frame, rospy.Time(0)).transform
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException) as error:
+            self.log.warn(f"tf:{frame}", "operator_tracker: no pose of %s: %s", frame, error)
+            return None
+        p, q = t.translation, t.rotation
+        return np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w])
+
+    def kinect_measurement(self):
+        """(xy, R): the Kinect's range to him along its ray, in an image not used yet."""
+        msg, self.depth = self.depth, None
+        if msg is None or not self.filter.started:
+            return None
+        pose = self._sensor_pose(msg.header.frame_id)
+        if pose is None:
+            return None
+        depth = np.frombuffer(msg.data, dtype="<f4" if not msg.is_bigendian else ">f4")
+        if depth.size != msg.height * msg.width:
+            self.log.warn("kinect:size", "operator_tracker: depth image of the wrong size")
+            return None
+        depth = depth.reshape(msg.height, msg.width)
+        return self.kinect.measurement(depth, *pose, self.filter.x[:2])
 
     def camera_measurement(self, now):
         """(xy, R) from the cameras with a fresh blob, or None."""
@@ -116,16 +155,12 @@ class OperatorTracker:
         scan, self.scan = self.scan, None
         if scan is None:
             return None
-        try:
-            t = self.tf.lookup_transform(WORLD_FRAME, scan.header.frame_id, rospy.Time(0))
-        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
-                tf2_ros.ExtrapolationException) as error:
-            self.log.warn("laser:tf", "operator_tracker: no pose of the laser: %s", error)
+        pose = self._sensor_pose(scan.header.frame_id)
+        if pose is None:
             return None
-        p, q = t.transform.translation, t.transform.rotation
-        position = np.array([p.x, p.y, p.z])
-        points = geo.scan_points(self.background.foreground(scan.ranges), scan.angle_min, scan.angle_increment, position,
-                                 (q.x, q.y, q.z, q.w))
+        position, quat = pose
+        points = geo.scan_points(self.background.foreground(scan.ranges), scan.angle_min,
+                                 scan.angle_increment, position, quat)
         candidates = geo.person_candidates(points, position[:2])
         if camera is not None:
             reference = camera[0]
@@ -152,8 +187,9 @@ class OperatorTracker:
         self.filter.predict(t)
         if camera is not None:
             self.refused = 0 if self.filter.update(*camera) else self.refused + 1
-        if laser is not None:
-            self.filter.update(*laser)
+        for measurement in (laser, self.kinect_measurement()):
+            if measurement is not None:
+                self.filter.update(*measurement)
         self.publish(now)
 
     def publish(self, stamp):

@@ -19,3 +19,5 @@ OPERATOR_SEPARATION_SERVICE = NODE_NAMESPACE + "operator_separation"
 # The operator's blob, published by the ceiling cameras' child scripts through the plugin
 # (thesis 5.1): the thesis's nodes and the operator tracker read it.
 BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
+# The Kinect's depth in metres (sensor_msgs/Image 32FC1), from the thesis's [/kinect] node.
+KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"
