@@ -21,3 +21,6 @@ OPERATOR_SEPARATION_SERVICE = NODE_NAMESPACE + "operator_separation"
 BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
 # The Kinect's depth in metres (sensor_msgs/Image 32FC1), from the thesis's [/kinect] node.
 KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"
+# What ssm_supervisor publishes per robot (std_msgs/Float64 unless said): separation,
+# protective_separation, scale, operator_uncertainty, protective_stop (Bool), status (String).
+SSM_TOPIC_FORMAT = "/ssm_supervisor/{robot}/{what}"
