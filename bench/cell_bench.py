@@ -68,6 +68,7 @@ class ReactionMeter:
         self.clock, self.step_s = clock, step_s
         self.latest = {}
         self.crossed_at = self.slowed_at = None
+        self.measured = False           # this approach's reaction is in
         self.reactions = []
         ns = f"/ssm_supervisor/{robot}/"
         self._subs = [rospy.Subscriber(ns + k, Float64, self._on, k, queue_size=10)
@@ -84,11 +85,12 @@ class ReactionMeter:
             self.slowed_at = t
         if self.crossed_at is None and inside:
             self.crossed_at = t
-        if self.crossed_at is not None and self.slowed_at is not None:
+        if not self.measured and self.crossed_at is not None and self.slowed_at is not None:
             self.reactions.append(round((self.slowed_at - self.crossed_at) / self.step_s))
-            self.crossed_at = self.slowed_at = None
+            self.measured = True
         if not slowed and not inside:              # the operator has left: a new approach
             self.crossed_at = self.slowed_at = None
+            self.measured = False
 
 
 def run(rtf, seconds, safety=False):

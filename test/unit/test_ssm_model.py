@@ -96,6 +96,26 @@ def test_the_speed_scale_slows_and_holds_the_script(sim):
     assert irb.speed_scale == 1.0
 
 
+def test_the_speed_scale_slows_commanded_velocities_and_the_base(sim):
+    irb = sim.cell.arm_by_name["IRB140"]
+    joint = sim.registry.get(sim.registry.handle_of("IRB140_joint1")).properties["joint"]
+    joint.set_target_velocity(0.4)                    # a client's command: the script stops
+    irb.set_speed_scale(0.5)
+    for _ in range(10):
+        sim.step()
+    assert irb.qd[joint.index] == pytest.approx(0.2, abs=0.01)
+    bot = sim.cell.arm_by_name["youBot"]
+    bot.set_twist(0.2, 0.0, 0.0)
+    bot.set_speed_scale(0.25)
+    x0 = bot.base_xy_yaw.copy()
+    for _ in range(20):
+        sim.step()
+    moved = np.hypot(*(bot.base_xy_yaw[:2] - x0[:2]))
+    assert moved == pytest.approx(0.25 * 0.2 * 20 * sim.step_s, rel=1e-6)
+    irb.set_speed_scale(1.0)
+    bot.set_speed_scale(1.0)
+
+
 def test_separation_of_the_operator_and_of_his_body_placed_where_he_is(sim):
     truth = operator_separation(sim.cell)
     x, y, _, _ = sim.cell.operator.state()
