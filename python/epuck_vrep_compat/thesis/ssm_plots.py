@@ -48,7 +48,8 @@ def plot_robot(bag, robot: str, path: str) -> str:
     right.set_ylim(-0.05, 1.05)
     right.set_ylabel("speed scale")
     lines = ax.get_legend_handles_labels()[0] + right.get_legend_handles_labels()[0]
-    ax.legend(lines, [line.get_label() for line in lines], loc="upper right")
+    fig.legend(lines, [line.get_label() for line in lines], loc="lower center", ncol=3)
+    fig.subplots_adjust(bottom=0.22)
     ax.set_title(f"{robot}: speed and separation monitoring")
     FigureCanvasAgg(fig)
     fig.savefig(path, dpi=100)
