@@ -40,10 +40,10 @@ class CellFace(Face):
         self._backend.control.listeners.append(self._on_state)
         self._laser = LaserTopic(self.cell) if self.cell.laser is not None else None
         log = ThrottledLog()
+        self._safety = CellSafety(sim, lock, log)
         self._arms = {arm.spec.name: ArmTopics(arm, lock, log) for arm in self.cell.arms}
         self._transforms = CellTransforms(sim)
         self._rviz = CellRviz(sim)
-        self._safety = CellSafety(sim, lock, log)
 
     def sync(self):
         """Follow the cell's objects after a removal (between steps, under the lock): the
