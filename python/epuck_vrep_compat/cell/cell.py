@@ -12,6 +12,7 @@ import numpy as np
 import pybullet as pb
 
 from epuck_vrep_compat._core import GROUP_ALL
+from epuck_vrep_compat.cell.loaded_models import load_cell_robot
 from epuck_vrep_compat.devices.arm_script import scripted_motion
 from epuck_vrep_compat.devices.articulated import ArticulatedRobot
 from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
@@ -249,6 +250,19 @@ class Cell(SimulationExtension):
             arm.base_xy_yaw[:], arm.base_z = before
             self._place(arm)
             raise
+
+    def load_model(self, model):
+        """simLoadModel of a cell robot's model file (see :mod:`loaded_models`)."""
+        return load_cell_robot(self, model) if model.robot == "cell_robot" else None
+
+    def add_arm(self, arm):
+        """A robot built while the simulation runs (a model loaded): stepped from now on."""
+        self.arms.append(arm)
+        self.arm_by_name[arm.spec.name] = arm
+        self._links.add(arm, self.sim.registry, self.sim.world)
+        self._links.index(self.arms)
+        self._sync_world()
+        self._sense()
 
     def _place(self, arm):
         arm.place_base()

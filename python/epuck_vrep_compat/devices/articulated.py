@@ -40,11 +40,13 @@ def _z_to_axis(axis):
 
 
 class ArticulatedRobot:
-    """One URDF robot in pybullet and in the scene registry (base object named ``spec.name``)."""
+    """One URDF robot in pybullet and in the scene registry (base object named ``spec.name``;
+    its joints and links by their URDF names plus ``suffix``, as V-REP names a copy's)."""
 
-    def __init__(self, client: int, spec, registry: reg.SceneRegistry):
+    def __init__(self, client: int, spec, registry: reg.SceneRegistry, suffix: str = ""):
         self.client = client
         self.spec = spec
+        self.suffix = suffix
         self.chain = load_urdf_chain(spec.urdf)
         self.collisions = parse_collisions(spec.urdf)
         self.base_xy_yaw = np.array([spec.position_m[0], spec.position_m[1], spec.yaw_rad])
@@ -93,19 +95,19 @@ class ArticulatedRobot:
             parent = self.objects[j.parent]
             if j.joint_type == "fixed":
                 self.objects[j.child] = registry.add(
-                    j.child, reg.SHAPE, parent.handle, j.origin_position, j.origin_quat,
+                    j.child + self.suffix, reg.SHAPE, parent.handle, j.origin_position, j.origin_quat,
                     robot=self.spec.name, part=j.child)
                 continue
             align = _z_to_axis(j.axis)
             k = movable_index[j.name]
-            joint_obj = registry.add(j.name, reg.JOINT, parent.handle, j.origin_position,
+            joint_obj = registry.add(j.name + self.suffix, reg.JOINT, parent.handle, j.origin_position,
                                      quat_mul(j.origin_quat, align), robot=self.spec.name,
                                      part=j.name)
             component = ArmJoint(self, k, j)
             joint_obj.properties["joint"] = component
             self.joints.append(component)
             self.objects[j.child] = registry.add(
-                j.child, reg.SHAPE, joint_obj.handle, robot=self.spec.name, part=j.child,
+                j.child + self.suffix, reg.SHAPE, joint_obj.handle, robot=self.spec.name, part=j.child,
                 pose_source=self._link_pose_source(k, component.prismatic, align))
 
     def _link_pose_source(self, k, prismatic, align):

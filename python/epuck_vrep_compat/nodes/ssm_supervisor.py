@@ -36,7 +36,7 @@ from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.names import (
-    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, WORLD_FRAME)
+    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, WORLD_FRAME, ros_robot_name)
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationRequest
 
@@ -65,14 +65,15 @@ class RobotChannel:
 
     def __init__(self, name, p):
         self.name = name
+        self.ros_name = ros_name = ros_robot_name(name)     # a copy's IRB140#0: IRB140_0
         self.governor = ArmGovernor(p)
         self.joints = None
         self.kinematics = None
         self.status = None
-        self._sub = rospy.Subscriber(f"/{name}/joint_states", JointState, self._on_joints,
+        self._sub = rospy.Subscriber(f"/{ros_name}/joint_states", JointState, self._on_joints,
                                      queue_size=1)
-        ns = f"~{name}/"
-        self.command = rospy.Publisher(SPEED_SCALE_TOPIC.format(robot=name), Float64,
+        ns = f"~{ros_name}/"
+        self.command = rospy.Publisher(SPEED_SCALE_TOPIC.format(robot=ros_name), Float64,
                                        queue_size=1)
         self.out = {k: rospy.Publisher(ns + k, Float64, queue_size=1)
                     for k in ("separation", "protective_separation", "scale",
@@ -86,7 +87,7 @@ class RobotChannel:
     def link_speeds(self, links, local_points):
         """Speeds of the points, or None while the robot's description is unknown."""
         if self.kinematics is None:
-            description = rospy.get_param(f"/{self.name}/robot_description", None)
+            description = rospy.get_param(f"/{self.ros_name}/robot_description", None)
             if description is None:
                 return None
             self.kinematics = LinkSpeeds(description)

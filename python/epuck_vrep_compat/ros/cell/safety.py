@@ -16,7 +16,8 @@ from geometry_msgs.msg import Point
 from std_msgs.msg import Float64
 
 from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
-from epuck_vrep_compat.ros.common.names import OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC
+from epuck_vrep_compat.ros.common.names import (
+    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, ros_robot_name)
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationResponse
 
 
@@ -32,17 +33,18 @@ class CellSafety:
         self._lock = lock
         self._log = log
         self._scales = {}
-        for arm in sim.cell.arms:
-            self._scales[arm.spec.name] = rospy.Subscriber(
-                SPEED_SCALE_TOPIC.format(robot=arm.spec.name), Float64, self._on_scale,
-                callback_args=arm.spec.name, queue_size=1)
+        self.sync()
         self._service = rospy.Service(OPERATOR_SEPARATION_SERVICE, OperatorSeparation,
                                       self._on_separation)
 
     def sync(self):
-        """A removed robot's subscriber goes."""
+        """A removed robot's subscriber goes, an added robot's comes."""
         for name in [n for n in self._scales if n not in self.sim.cell.arm_by_name]:
             self._scales.pop(name).unregister()
+        for name in [n for n in self.sim.cell.arm_by_name if n not in self._scales]:
+            self._scales[name] = rospy.Subscriber(
+                SPEED_SCALE_TOPIC.format(robot=ros_robot_name(name)), Float64, self._on_scale,
+                callback_args=name, queue_size=1)
 
     def close(self):
         for subscriber in self._scales.values():

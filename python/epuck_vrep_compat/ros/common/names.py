@@ -24,3 +24,9 @@ KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"
 # What ssm_supervisor publishes per robot (std_msgs/Float64 unless said): separation,
 # protective_separation, scale, operator_uncertainty, protective_stop (Bool), status (String).
 SSM_TOPIC_FORMAT = "/ssm_supervisor/{robot}/{what}"
+
+
+def ros_robot_name(name: str) -> str:
+    """A robot's name in ROS names (topics, parameters): V-REP names a copy ``IRB140#0``, and
+    ``#`` is not allowed in a ROS name, so the copy's topics are ``/IRB140_0/...``."""
+    return name.replace("#", "_")
