@@ -175,7 +175,10 @@ class SsmSupervisor:
                 self.channels[name] = RobotChannel(name, self.p)
         markers = MarkerArray()
         for index, channel in enumerate(self.channels.values()):
-            markers.markers += self.supervise(channel, index, now, answer, z_d, fault)
+            try:
+                markers.markers += self.supervise(channel, index, now, answer, z_d, fault)
+            except Exception as error:      # noqa: BLE001  a timer thread must not die: stop
+                self._fail(channel, f"supervisor error: {error!r}")
         self.markers.publish(markers)
 
     def supervise(self, channel, index, now, answer, z_d, fault):
