@@ -277,6 +277,7 @@ void bind_swarm(py::module_& m) {
 }
 
 }  // namespace
+void bind_distance(py::module_& m);  // distance_bindings.cpp
 void bind_cell(py::module_& m);  // cell_bindings.cpp
 }  // namespace evc
 
@@ -301,5 +302,6 @@ PYBIND11_MODULE(_core, m) {
   evc::bind_world(m);
   evc::bind_model(m);
   evc::bind_swarm(m);
+  evc::bind_distance(m);
   evc::bind_cell(m);
 }
