@@ -10,6 +10,7 @@ from typing import Dict, Tuple
 
 from epuck_vrep_compat.ros.common.names import ODOM_FRAME  # noqa: F401 (a profile name too)
 PROXIMITY_COUNT = 8
+ROOT_NAMESPACE = "/"     # a robot name: its topics at the root, as a driver's single-robot launch
 
 
 @dataclass(frozen=True)
@@ -36,15 +37,27 @@ class TopicProfile:
     publishes_odometry: bool
     publishes_scan: bool
     has_gyro: bool                  # False: angular velocity 0, marked "no estimate" (REP 145)
+    # The original's command semantics, the defaults of ~cmd_vel_scaling and ~cmd_timeout_s:
+    # its own units, and commands that persist until the next one (0 = no watchdog).
+    default_cmd_vel_scaling: str = "si"
+    default_cmd_timeout_s: float = 0.0
+    # frames of a robot at the root namespace: the prefix the original's single-robot launch
+    # gives them (its default robot name)
+    root_frame_prefix: str = "ePuck0"
 
     def robot_name(self, index: int) -> str:
         return self.robot_name_format.format(index=index)
 
     def topic(self, robot_name: str, role: str) -> str:
+        if robot_name == ROOT_NAMESPACE:
+            return "/" + self.topics[role]
         return self.topic_prefix_format.format(robot=robot_name) + self.topics[role]
 
     def frame(self, robot_name: str, frame: str) -> str:
-        return self.frame_format.format(robot=robot_name, frame=frame)
+        return self.frame_format.format(robot=self.frame_prefix(robot_name), frame=frame)
+
+    def frame_prefix(self, robot_name: str) -> str:
+        return self.root_frame_prefix if robot_name == ROOT_NAMESPACE else robot_name
 
 
 _COMMON_TOPICS = {f"proximity{i}": f"proximity{i}" for i in range(PROXIMITY_COUNT)}
@@ -64,6 +77,7 @@ VREP = TopicProfile(
     publishes_odometry=False,
     publishes_scan=False,
     has_gyro=True,
+    default_cmd_vel_scaling="vrep",     # epuck_vrep_ros.lua's formula; wheels keep their speed
 )
 
 EPUCK_DRIVER = TopicProfile(
@@ -82,6 +96,8 @@ EPUCK_DRIVER = TopicProfile(
     publishes_odometry=True,
     publishes_scan=True,
     has_gyro=False,        # the e-puck 1's driver has an accelerometer only
+    default_cmd_vel_scaling="epuck_driver",  # the driver's /3 and steps; the firmware keeps them
+    root_frame_prefix="epuck_robot_0",       # epuck_controller.launch's default epuck_name
 )
 
 PROFILES: Dict[str, TopicProfile] = {p.name: p for p in (VREP, EPUCK_DRIVER)}

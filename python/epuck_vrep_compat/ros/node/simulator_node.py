@@ -56,7 +56,7 @@ class SimulatorNode:
         self.params = params
         scene = load_scene(params.world)
         profile = PROFILES[params.profile]
-        names = [profile.robot_name(i) for i in range(params.n)]
+        names = params.robot_names
         try:
             self.sim = build_simulation(scene, names, params.step_s, params.seed, params.noise,
                                         params.cmd_timeout_s, params.camera, profile.robot_name)
