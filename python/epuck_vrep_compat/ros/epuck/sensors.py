@@ -66,7 +66,7 @@ class _Robot:
             listener.publishers.append(pub)      # before any subscriber can count on it
             return pub
         self.ranges = [publisher(f"proximity{k}", Range) for k in range(names.PROXIMITY_COUNT)]
-        self.imu = publisher(profile.imu_role, Imu)
+        self.imu = publisher(profile.imu_role, Imu) if profile.imu_role else None
         self.ground_truth = (publisher("ground_truth", Odometry) if face.publish_ground_truth
                              else None)
         self.odom = publisher("odom", Odometry) if profile.publishes_odometry else None
@@ -146,7 +146,8 @@ class EpuckFace(Face):
         per_robot = names.PROXIMITY_COUNT
         out = [(pub, "range", self._range_batch.bounds(i * per_robot + k))
                for k, pub in enumerate(robot.ranges)]
-        out.append((robot.imu, "imu", self._imu_batch.bounds(i)))
+        if robot.imu is not None:
+            out.append((robot.imu, "imu", self._imu_batch.bounds(i)))
         if robot.ground_truth is not None:
             out.append((robot.ground_truth, "ground_truth", self._odom_batch.bounds(i)))
         if robot.odom is not None:

@@ -13,6 +13,8 @@ from epuck_vrep_compat.ros.common.params import ParamError, read_typed as _get
 from epuck_vrep_compat.ros.epuck.commands import SCALINGS
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.ros.epuck.robot_names import parse_robot_names, unconventional_names
+from epuck_vrep_compat.ros.node.extras_params import read_extras_settings
+from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Settings
 from epuck_vrep_compat.sim.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
 
@@ -35,6 +37,7 @@ class SimParams:
     publish_ground_truth: bool = True
     camera: CameraSpec = field(default_factory=CameraSpec)
     noise: NoiseSettings = field(default_factory=NoiseSettings)
+    extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
 
     def summary(self) -> str:
         return (f"world={self.world} n={self.n} robots={','.join(self.robot_names[:4])}"
@@ -73,6 +76,7 @@ def read_params(default_world: str) -> SimParams:
     c.vertical_fov_rad = _get("camera/vertical_fov_rad", c.vertical_fov_rad, float,
                               lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
     p.noise = _read_noise(p.robot_names)
+    p.extras = read_extras_settings(profile)
     return p
 
 
