@@ -227,6 +227,28 @@ class ProfileEpuck2(unittest.TestCase):
         pose = self._latest("epuck_robot_0", "ground_truth").pose.pose.position
         self.assertTrue(math.isfinite(pose.x) and math.isfinite(pose.y))
 
+    def test_i_camera_default_is_the_drivers_160_by_2_grey_slice(self):
+        images = Collector("/epuck_robot_0/camera", Image)
+        deadline = time.monotonic() + 60
+        while not images.messages and time.monotonic() < deadline:
+            self._step(5)
+            time.sleep(0.1)
+        image = images.wait(1)[0]
+        self.assertEqual((image.width, image.height, image.encoding, image.step),
+                         (160, 2, "mono8", 160))
+        self.assertEqual(len(image.data), 320)
+
+    def test_j_robot_description_links_are_the_tf_frames(self):
+        import xml.etree.ElementTree as ET
+        for robot in ROBOTS:
+            urdf = ET.fromstring(rospy.get_param(f"/{robot}/robot_description"))
+            links = {link.get("name") for link in urdf.iter("link")}
+            self.assertIn(f"{robot}/base_link", links)
+            self.assertIn(f"{robot}/base_dist_sens", links)
+            self.assertIn(f"{robot}/left_wheel", links)
+            for link in links:
+                self._transform(f"{robot}/base_link", link)
+
     def test_zz_no_errors_logged(self):
         self.assertEqual(self.guard.errors, [])
 

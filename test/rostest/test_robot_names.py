@@ -53,6 +53,15 @@ class RobotNames(unittest.TestCase):
                 buf.lookup_transform("odom", f"{prefix}/{child}", rospy.Time(0),
                                      rospy.Duration(20.0))
 
+    def test_b2_robot_description_follows_the_names(self):
+        import xml.etree.ElementTree as ET
+        for robot, prefix in zip(self.robots, self.frames):
+            param = "/robot_description" if robot == "/" else f"/{robot}/robot_description"
+            urdf = ET.fromstring(rospy.get_param(param))
+            links = {link.get("name") for link in urdf.iter("link")}
+            self.assertIn(f"{prefix}/base_link", links)
+            self.assertTrue(all(link.startswith(prefix + "/") for link in links), links)
+
     def test_c_vrep_object_names_stay_vreps(self):
         for k in range(len(self.robots)):
             suffix = "" if k == 0 else f"#{k - 1}"

@@ -47,3 +47,11 @@ def test_names_the_original_would_not_give_are_listed_but_accepted():
     names = parse_robot_names(["epuck_robot_3", "leader"], EPUCK_DRIVER)
     assert unconventional_names(names, EPUCK_DRIVER) == ["leader"]
     assert unconventional_names(["ePuck4", "epuck_robot_0"], VREP) == ["epuck_robot_0"]
+
+
+def test_every_profile_names_a_topic_for_each_of_its_extras():
+    for profile in PROFILES.values():
+        for role in profile.extras:
+            assert profile.topic("r", role).startswith("/r/"), (profile.name, role)
+        if "mag_field" in profile.extras:
+            assert profile.topic("r", "mag_field_vector") == "/r/mag_field_vector"

@@ -52,6 +52,9 @@ class TopicProfile:
     # imu, dist_sens, mag_field, battery, floor, microphone, motor_speed, rgb_leds
     extras: Tuple[str, ...] = ()
     microphones: int = 0             # microphone count of the `microphone` marker
+    # the camera's default (width, height, mode "rgb" | "gray"): the drivers' cam_width,
+    # cam_height, cam_mode defaults (a 160 x 2 grey slice); 40 x 40 colour for V-REP's model
+    default_camera: Tuple[int, int, str] = (40, 40, "rgb")
 
     def robot_name(self, index: int) -> str:
         return self.robot_name_format.format(index=index)
@@ -95,7 +98,8 @@ EPUCK_DRIVER = TopicProfile(
     topics=dict(_COMMON_TOPICS, imu="accel", camera="camera", camera_info="camera_info",
                 cmd_vel="mobile_base/cmd_vel", cmd_led="mobile_base/cmd_led",
                 led_state="led_state", odom="odom", scan="scan",
-                ground_truth="ground_truth"),
+                ground_truth="ground_truth", floor="floor", microphone="microphone",
+                motor_speed="motor_speed"),
     frame_format="{robot}/{frame}",
     # field_of_view 0.26, min 5 mm, max 5 cm (epuck_driver_cpp.cpp)
     range=RangeProfile(field_of_view_rad=0.26, min_range_m=0.005, max_range_m=0.05),
@@ -108,6 +112,7 @@ EPUCK_DRIVER = TopicProfile(
     root_frame_prefix="epuck_robot_0",       # epuck_controller.launch's default epuck_name
     extras=("floor", "microphone", "motor_speed"),
     microphones=3,
+    default_camera=(160, 2, "gray"),
 )
 
 EPUCK2_DRIVER = TopicProfile(
@@ -132,6 +137,7 @@ EPUCK2_DRIVER = TopicProfile(
     root_frame_prefix="epuck2_robot_0",      # epuck2_controller.launch's default epuck2_name
     extras=("imu", "dist_sens", "mag_field", "battery", "floor", "microphone", "rgb_leds"),
     microphones=4,
+    default_camera=(160, 2, "gray"),
 )
 
 PROFILES: Dict[str, TopicProfile] = {p.name: p for p in (VREP, EPUCK_DRIVER, EPUCK2_DRIVER)}

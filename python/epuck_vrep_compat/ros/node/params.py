@@ -36,6 +36,7 @@ class SimParams:
     accel_sign: str = "ros"
     publish_ground_truth: bool = True
     camera: CameraSpec = field(default_factory=CameraSpec)
+    camera_mode: str = "rgb"                  # "rgb" (rgb8) or "gray" (mono8)
     noise: NoiseSettings = field(default_factory=NoiseSettings)
     extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
 
@@ -70,14 +71,27 @@ def read_params(default_world: str) -> SimParams:
                         "must be 'ros' (+9.81 on z at rest) or 'vrep' (-9.81)")
     p.publish_ground_truth = _get("publish_ground_truth", True, bool)
     c = p.camera
-    c.width = _get("camera/width", c.width, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
-    c.height = _get("camera/height", c.height, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    width, height, p.camera_mode = profile.default_camera
+    c.width = _get("camera/width", width, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    c.height = _get("camera/height", height, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    p.camera_mode = _get("camera/mode", p.camera_mode, str, lambda v: v in ("rgb", "gray"),
+                         "must be 'rgb' (rgb8) or 'gray' (mono8, the drivers' cam_mode 0)")
     c.rate_hz = _get("camera/rate_hz", c.rate_hz, float, lambda v: v > 0.0, "must be > 0")
-    c.vertical_fov_rad = _get("camera/vertical_fov_rad", c.vertical_fov_rad, float,
+    fov = (slice_fov(c.vertical_fov_rad, c.height) if profile.default_camera[2] == "gray"
+           else c.vertical_fov_rad)        # the drivers' window of the sensor at zoom 1
+    c.vertical_fov_rad = _get("camera/vertical_fov_rad", fov, float,
                               lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
     p.noise = _read_noise(p.robot_names)
     p.extras = read_extras_settings(profile)
     return p
+
+
+def slice_fov(full_vertical_fov_rad: float, height: int, sensor_rows: int = 480) -> float:
+    """Vertical field of view of ``height`` rows of the e-puck's 640 x 480 sensor at zoom 1
+    (as the drivers' centred slices): the full image's below 480 rows, a narrow band for 2."""
+    if height >= sensor_rows:
+        return full_vertical_fov_rad
+    return 2.0 * math.atan(math.tan(0.5 * full_vertical_fov_rad) * height / sensor_rows)
 
 
 def _read_robot_names(p: SimParams) -> list:

@@ -28,6 +28,7 @@ from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
 from epuck_vrep_compat.ros.common.names import CLOCK_TOPIC, NODE, NODE_NAME, TF_TOPIC
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
+from epuck_vrep_compat.ros.epuck.description import DescriptionFace
 from epuck_vrep_compat.ros.epuck.extras import ExtrasFace
 from epuck_vrep_compat.ros.epuck.leds import LedFace
 from epuck_vrep_compat.ros.epuck.names import PROFILES
@@ -76,7 +77,7 @@ class SimulatorNode:
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
         self.tf = TfFace(profile, self.sim)
-        self.cameras = CameraFace(profile, self.sim)
+        self.cameras = CameraFace(profile, self.sim, params.camera_mode)
         self.extras = None
         if profile.extras:                   # the drivers' extra sensors, after the swarm's
             sensors = Epuck2Sensors(self.sim, params.extras, scene.floor_regions,
@@ -92,8 +93,9 @@ class SimulatorNode:
             from epuck_vrep_compat.ros.cell.face import CellFace
             self.cell = CellFace(self.sim, self.vrep.streams, self._lock)
         # publication order: the cell enables the blob streams before /vrep publishes streams
+        self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
-                                  self.cameras, self.leds) if f is not None]
+                                  self.cameras, self.leds, self.descriptions) if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
         rospy.Service("~unpause", Empty, self._on_unpause)
