@@ -15,8 +15,11 @@ e-pucks it fills one row per robot (rows as ``sim.robot_names``):
   black 0; the real sensor's reflected infrared, calibrated to that span);
 * ``mic`` (N, M): the configured sound level of each microphone (no acoustics are simulated).
 
-Noise draws come from one numpy generator per source and robot number, seeded from the
-simulation's seed, so the same seed gives the same run and a reset restarts them.
+The magnetometer's noise is counter-based: each draw is a hash of (seed, robot number, frame,
+axis) turned normal by Box–Muller, vectorised over the swarm; so a robot's noise depends on
+nothing but its own number and the frame, the same seed gives the same run, and another robot
+added or removed changes nothing. The time-of-flight noise has its own stream per robot in the
+core.
 """
 from dataclasses import dataclass, field
 from typing import Tuple
@@ -49,6 +52,26 @@ class Epuck2Settings:
     mic_levels: Tuple[int, ...] = field(default_factory=lambda: (0, 0, 0, 0))
 
 
+def _mix(x):
+    """splitmix64's finaliser on uint64 arrays (wrapping arithmetic)."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+def hashed_normals(seed: int, robot_ids, frame: int, count: int) -> np.ndarray:
+    """(N, count) standard normals, each a function of (seed, robot id, frame, column) only."""
+    with np.errstate(over="ignore"):
+        base = _mix(np.uint64(seed % 2 ** 64) ^ np.uint64(_MAG_STREAM))
+        key = _mix(base ^ _mix(np.asarray(robot_ids, dtype=np.uint64) + np.uint64(1)))
+        key = _mix(key ^ np.uint64(frame % 2 ** 64))
+        cols = np.arange(2 * count, dtype=np.uint64)
+        bits = _mix(key[:, None] + cols[None, :] * np.uint64(0x9E3779B97F4A7C15))
+    u = ((bits >> np.uint64(11)).astype(np.float64) + 1.0) * 2.0 ** -53   # (0, 1]
+    u1, u2 = u[:, :count], u[:, count:]
+    return np.sqrt(-2.0 * np.log(u1)) * np.cos(2.0 * np.pi * u2)
+
+
 class Epuck2Sensors(SimulationExtension):
     """Computes the e-puck2's extra readings of every robot after each step."""
 
@@ -62,7 +85,6 @@ class Epuck2Sensors(SimulationExtension):
         self._tof = TofSensorArray(np.asarray(s.tof_mount_m), s.tof_pitch_rad,
                                    stddev_m=s.tof_stddev_m, stddev_rel=s.tof_stddev_rel,
                                    seed=sim.seed)
-        self._mag_rngs = {}
         self._born_s = {}            # robot name -> simulated time it appeared (or reset)
         self.tof_m = np.zeros(0)
         self.mag_tesla = np.zeros((0, 3))
@@ -71,18 +93,12 @@ class Epuck2Sensors(SimulationExtension):
         self.mic = np.zeros((0, len(s.mic_levels)), dtype=np.int64)
         self.step(0.0)
 
-    def _mag_rng(self, robot_id: int):
-        rng = self._mag_rngs.get(robot_id)
-        if rng is None:
-            rng = self._mag_rngs[robot_id] = np.random.default_rng(
-                [self.sim.seed, robot_id, _MAG_STREAM])
-        return rng
-
     def step(self, dt: float) -> None:
         sim, s = self.sim, self.settings
         swarm = sim.swarm
         poses = np.asarray(swarm.poses, dtype=float).reshape(-1, 3)
-        ids = [int(i) for i in swarm.stream_ids]
+        id_array = np.asarray(swarm.stream_ids, dtype=np.uint64)
+        ids = id_array.tolist()
         noise = sim.noise.enabled
         self.tof_m = self._tof.read(sim.world, poses, [int(h) for h in swarm.handles], ids,
                                     noise)
@@ -90,8 +106,7 @@ class Epuck2Sensors(SimulationExtension):
         bx, by, bz = s.mag_world_tesla
         mag = np.stack((c * bx + sn * by, -sn * bx + c * by, np.full_like(c, bz)), axis=1)
         if noise and s.mag_stddev_tesla > 0.0:
-            mag += np.array([self._mag_rng(i).normal(0.0, s.mag_stddev_tesla, 3) for i in ids]
-                            ).reshape(-1, 3)
+            mag += s.mag_stddev_tesla * hashed_normals(self.sim.seed, id_array, sim.frame, 3)
         self.mag_tesla = mag
         self.battery_v = self._battery(sim.robot_names, sim.time_s)
         self.floor = self._floor(poses, c, sn)
@@ -117,6 +132,5 @@ class Epuck2Sensors(SimulationExtension):
 
     def reset(self) -> None:
         self._tof.reseed(self.sim.seed)
-        self._mag_rngs.clear()
         self._born_s.clear()
         self.step(0.0)

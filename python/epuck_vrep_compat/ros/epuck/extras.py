@@ -8,6 +8,7 @@ Epuck2Sensors` and the swarm); a message is built only for a topic someone subsc
 swarm nobody listens to costs one check per topic and step.
 """
 import numpy as np
+import rospy
 from sensor_msgs.msg import BatteryState, Imu, MagneticField, Range
 from visualization_msgs.msg import Marker
 
@@ -27,6 +28,26 @@ _CLASSES = {"mag_field": MagneticField, "mag_field_vector": Marker}
 E_PUCK1_FLOOR_VALUES = 5            # the e-puck 1 driver prints five ground-module values
 
 
+class _Listening(rospy.SubscribeListener):
+    """Keeps ``face.listening`` = subscriber connections of all the face's publishers, so a
+    step nobody listens to costs one test."""
+
+    def __init__(self, face):
+        super().__init__()
+        self._face = face
+
+    def _recount(self):
+        self._face.listening = sum(len(p.impl.connections) for pubs in
+                                   list(self._face._robots.values()) for p in pubs.values()
+                                   if p.impl is not None)
+
+    def peer_subscribe(self, topic_name, topic_publish, peer_publish):
+        self._recount()
+
+    def peer_unsubscribe(self, topic_name, num_peers):
+        self._recount()
+
+
 class ExtrasFace(Face):
     """Each robot's extra driver topics, as its profile lists them."""
 
@@ -40,6 +61,8 @@ class ExtrasFace(Face):
         self.topics = [t for role in profile.extras if role in _TOPICS
                        for t in _TOPICS[role][0]]
         self._robots = {}               # robot name -> {topic: publisher}
+        self.listening = 0
+        self._listener = _Listening(self)
         self.sync()
 
     def sync(self):
@@ -50,7 +73,9 @@ class ExtrasFace(Face):
         for name in names_now:
             if name not in self._robots:
                 self._robots[name] = {t: synchronous_publisher(
-                    self.profile.topic(name, t), self._class(t)) for t in self.topics}
+                    self.profile.topic(name, t), self._class(t),
+                    subscriber_listener=self._listener) for t in self.topics}
+        self._listener._recount()
 
     @staticmethod
     def _class(topic):
@@ -60,6 +85,8 @@ class ExtrasFace(Face):
         raise KeyError(topic)
 
     def publish(self, step: Step):
+        if not self.listening:
+            return
         stamp = None
         batch = step.batch
         for i, name in enumerate(self.sim.robot_names):
