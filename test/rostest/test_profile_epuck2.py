@@ -43,7 +43,8 @@ class ProfileEpuck2(unittest.TestCase):
             for topic, cls_ in (("dist_sens", Range), ("mag_field", MagneticField),
                                 ("mag_field_vector", Marker), ("battery", BatteryState),
                                 ("floor", Marker), ("microphone", Marker), ("imu", Imu),
-                                ("ground_truth", Odometry), ("led_state", UInt8MultiArray)):
+                                ("ground_truth", Odometry), ("led_state", UInt8MultiArray),
+                                ("odom", Odometry)):
                 cls.c[robot, topic] = Collector(f"/{robot}/{topic}", cls_)
         cls.markers = Collector("/vrep/markers", MarkerArray)
         cls.tf = tf2_ros.Buffer()
@@ -125,6 +126,11 @@ class ProfileEpuck2(unittest.TestCase):
             self.assertEqual(mic.text, "mic: [10, 20, 30, 40]")
             battery = self._latest(robot, "battery")
             self.assertTrue(battery.present)
+            odom = self._latest(robot, "odom")
+            self.assertEqual((odom.header.frame_id, odom.child_frame_id),
+                             ("odom", f"{robot}/base_link"))
+            np.testing.assert_allclose(np.diag(np.reshape(odom.pose.covariance, (6, 6))),
+                                       [0.001, 0.001, 1000, 1000, 1000, 0.001])
             self.assertEqual(battery.header.frame_id, f"{robot}/base_link")
         for robot in ROBOTS:
             t = self._transform(f"{robot}/base_link", f"{robot}/base_dist_sens")

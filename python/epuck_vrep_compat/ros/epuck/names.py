@@ -55,6 +55,8 @@ class TopicProfile:
     # the camera's default (width, height, mode "rgb" | "gray"): the drivers' cam_width,
     # cam_height, cam_mode defaults (a 160 x 2 grey slice); 40 x 40 colour for V-REP's model
     default_camera: Tuple[int, int, str] = (40, 40, "rgb")
+    # odom's pose covariance diagonal (x, y, z, roll, pitch, yaw), None: zero
+    odom_pose_variances: Optional[Tuple[float, ...]] = None
 
     def robot_name(self, index: int) -> str:
         return self.robot_name_format.format(index=index)
@@ -71,6 +73,8 @@ class TopicProfile:
         return self.root_frame_prefix if robot_name == ROOT_NAMESPACE else robot_name
 
 
+# both drivers' odom pose covariance: x, y 0.001; z, roll, pitch 1000 (not estimated); yaw 0.001
+_DRIVER_ODOM_VARIANCES = (0.001, 0.001, 1000.0, 1000.0, 1000.0, 0.001)
 _COMMON_TOPICS = {f"proximity{i}": f"proximity{i}" for i in range(PROXIMITY_COUNT)}
 
 VREP = TopicProfile(
@@ -113,6 +117,7 @@ EPUCK_DRIVER = TopicProfile(
     extras=("floor", "microphone", "motor_speed"),
     microphones=3,
     default_camera=(160, 2, "gray"),
+    odom_pose_variances=_DRIVER_ODOM_VARIANCES,
 )
 
 EPUCK2_DRIVER = TopicProfile(
@@ -138,6 +143,7 @@ EPUCK2_DRIVER = TopicProfile(
     extras=("imu", "dist_sens", "mag_field", "battery", "floor", "microphone", "rgb_leds"),
     microphones=4,
     default_camera=(160, 2, "gray"),
+    odom_pose_variances=_DRIVER_ODOM_VARIANCES,
 )
 
 PROFILES: Dict[str, TopicProfile] = {p.name: p for p in (VREP, EPUCK_DRIVER, EPUCK2_DRIVER)}
