@@ -4,7 +4,6 @@ drivers fill them (``epuck2_driver_cpp.cpp``; ``epuck_driver_cpp.cpp`` for the e
 """
 import math
 
-import rospy
 from geometry_msgs.msg import Point, Quaternion
 from sensor_msgs.msg import BatteryState, Imu, MagneticField, Range
 from visualization_msgs.msg import Marker
@@ -15,6 +14,13 @@ DIST_SENS_MIN_M = 0.005
 DIST_SENS_MAX_M = 2.0
 BATTERY_MIN_V = 3.4             # the driver's MIN_VOLTAGE, MAX_VOLTAGE
 BATTERY_MAX_V = 4.2
+
+
+def _header(msg, stamp, frame):
+    """Frame id, and the stamp unless None (a template laid out once, stamped per step)."""
+    msg.header.frame_id = frame
+    if stamp is not None:
+        msg.header.stamp = stamp
 
 
 def quat_from_rpy(roll, pitch, yaw) -> Quaternion:
@@ -29,7 +35,7 @@ def imu(stamp, frame, accel, gyro) -> Imu:
     """The e-puck2's Imu: roll and pitch from the accelerometer (aerospace Rxyz), yaw 0, and
     the driver's covariances (diag 0.01 for all three)."""
     msg = Imu()
-    msg.header.stamp, msg.header.frame_id = stamp, frame
+    _header(msg, stamp, frame)
     ax, ay, az = (float(v) for v in accel)
     msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = ax, ay, az
     gx, gy, gz = (float(v) for v in gyro)
@@ -47,13 +53,13 @@ def dist_sens(stamp, frame, range_m) -> Range:
     msg = Range(radiation_type=Range.INFRARED, field_of_view=DIST_SENS_FOV_RAD,
                 min_range=DIST_SENS_MIN_M, max_range=DIST_SENS_MAX_M,
                 range=min(max(float(range_m), DIST_SENS_MIN_M), DIST_SENS_MAX_M))
-    msg.header.stamp, msg.header.frame_id = stamp, frame
+    _header(msg, stamp, frame)
     return msg
 
 
 def mag_field(stamp, frame, field_tesla) -> MagneticField:
     msg = MagneticField()
-    msg.header.stamp, msg.header.frame_id = stamp, frame
+    _header(msg, stamp, frame)
     msg.magnetic_field.x, msg.magnetic_field.y, msg.magnetic_field.z = (
         float(v) for v in field_tesla)
     msg.magnetic_field_covariance = (0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01)
@@ -63,7 +69,7 @@ def mag_field(stamp, frame, field_tesla) -> MagneticField:
 def mag_field_vector(stamp, frame, field_tesla) -> Marker:
     """The driver's yellow arrow from the origin to the field's horizontal direction (1 m)."""
     msg = Marker(type=Marker.ARROW)
-    msg.header.stamp, msg.header.frame_id = stamp, frame
+    _header(msg, stamp, frame)
     msg.pose.orientation.w = 1.0
     bx, by = float(field_tesla[0]), float(field_tesla[1])
     mod = math.hypot(bx, by) or 1.0
@@ -76,14 +82,14 @@ def mag_field_vector(stamp, frame, field_tesla) -> Marker:
 def battery(stamp, frame, voltage) -> BatteryState:
     msg = BatteryState(voltage=float(voltage), present=True)
     msg.percentage = (msg.voltage - BATTERY_MIN_V) / (BATTERY_MAX_V - BATTERY_MIN_V)
-    msg.header.stamp, msg.header.frame_id = stamp, frame
+    _header(msg, stamp, frame)
     return msg
 
 
 def text_marker(stamp, frame, label, values, z) -> Marker:
     """The drivers' white text above the robot: ``"<label>: [a, b, c]"``, at (0.15, 0, z)."""
     msg = Marker(type=Marker.TEXT_VIEW_FACING)
-    msg.header.stamp, msg.header.frame_id = stamp, frame
+    _header(msg, stamp, frame)
     msg.pose.position.x, msg.pose.position.z = 0.15, z
     msg.pose.orientation.w = 1.0
     msg.scale.z = 0.01
@@ -102,7 +108,3 @@ def microphone(stamp, frame, values) -> Marker:
 
 def motor_speed(stamp, frame, values) -> Marker:
     return text_marker(stamp, frame, "speed", values, 0.15)
-
-
-def stamp_of(secs, nsecs):
-    return rospy.Time(secs, nsecs)
