@@ -119,3 +119,40 @@ def test_urdf_links_are_the_profiles_frames(profile):
                                               for c, _, _ in robot_child_frames(p, sim, 1)}
     assert links == expected
     assert (p.frame("b", "base_dist_sens") in links) == (p is EPUCK2_DRIVER)
+
+
+def test_laid_out_extra_topics_match_genpy_byte_for_byte():
+    import io
+
+    import rospy
+    from sensor_msgs.msg import Imu
+
+    from epuck_vrep_compat.ros.epuck.extras import _FIELDS, _tilt_quat
+    from epuck_vrep_compat.ros.epuck.extras_wire import TextMarkerCache, sentinel_batch
+    accel = np.array([[0.0, 1.0, 9.7], [-0.5, 0.2, 9.8]])
+    gyro = np.array([[0.1, 0.2, 0.3], [0.0, 0.0, -1.5]])
+    frames = ["a/base_link", "bb/base_link"]
+    batch = sentinel_batch([build.imu(None, f, (0, 0, 1), (0, 0, 0)) for f in frames],
+                           _FIELDS["imu"])
+    data = batch.pack(7, 500, accel=accel, gyro=gyro, quat=_tilt_quat(accel))
+    for i, f in enumerate(frames):
+        expected = build.imu(rospy.Time(7, 500), f, accel[i], gyro[i])
+        ours = Imu()
+        ours.deserialize(batch.frame(data, i)[4:])
+        q, e = ours.orientation, expected.orientation      # vectorised: within rounding
+        np.testing.assert_allclose([q.x, q.y, q.z, q.w], [e.x, e.y, e.z, e.w], atol=1e-15)
+        ours.orientation = expected.orientation
+        buff, mine = io.BytesIO(), io.BytesIO()
+        expected.serialize(buff)
+        ours.serialize(mine)
+        assert mine.getvalue() == buff.getvalue()
+    battery = sentinel_batch([build.battery(None, "x", 4.2)], _FIELDS["battery"])
+    data = battery.pack(1, 2, voltage=np.array([3.8]), percentage=np.array([0.5]))
+    buff = io.BytesIO()
+    build.battery(rospy.Time(1, 2), "x", 3.8).serialize(buff)
+    assert data[4:] == buff.getvalue()
+    cache = TextMarkerCache()
+    framed = cache.frame(("r", "floor"), "x", lambda: build.floor(None, "f", [1, 2, 3]), 9, 10)
+    buff = io.BytesIO()
+    build.floor(rospy.Time(9, 10), "f", [1, 2, 3]).serialize(buff)
+    assert framed[4:] == buff.getvalue()
