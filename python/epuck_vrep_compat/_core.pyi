@@ -405,3 +405,31 @@ def detect_blobs(
     0..1, x from the left, y from the BOTTOM), width, height (that rectangle's sides over W and
     H, measured between pixel centres as V-REP does)]. Releases the GIL.
     """
+
+class TofSensorArray:
+    """One VL53L0X time-of-flight sensor per robot (the e-puck2's ``dist_sens``): the distance
+    along its pitched axis to the first surface, Gaussian noise of SD stddev_m + stddev_rel d
+    from each robot's own stream (keyed by a stable robot id), clamped to [min, max]; max where
+    nothing is within max."""
+
+    def __init__(
+        self,
+        mount_m: npt.ArrayLike = ...,
+        pitch_rad: float = -0.21,
+        min_range_m: float = 0.005,
+        max_range_m: float = 2.0,
+        stddev_m: float = 0.003,
+        stddev_rel: float = 0.02,
+        seed: int = 0,
+    ) -> None:
+        """Mount (3,) in the body frame, m; pitch about body y, rad (negative looks up)."""
+    def read(
+        self,
+        world: CollisionWorld,
+        planar_poses: npt.ArrayLike,
+        body_handles: Sequence[int],
+        robot_ids: Sequence[int],
+        noise: bool = True,
+    ) -> npt.NDArray[np.float64]:
+        """Ranges (N,) m of N robots at planar poses (N, 3) x, y, yaw. Releases the GIL."""
+    def reseed(self, seed: int) -> None: ...

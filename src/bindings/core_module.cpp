@@ -279,6 +279,7 @@ void bind_swarm(py::module_& m) {
 }  // namespace
 void bind_distance(py::module_& m);  // distance_bindings.cpp
 void bind_cell(py::module_& m);  // cell_bindings.cpp
+void bind_epuck2(py::module_& m);  // epuck2_bindings.cpp
 }  // namespace evc
 
 PYBIND11_MODULE(_core, m) {
@@ -304,4 +305,5 @@ PYBIND11_MODULE(_core, m) {
   evc::bind_swarm(m);
   evc::bind_distance(m);
   evc::bind_cell(m);
+  evc::bind_epuck2(m);
 }

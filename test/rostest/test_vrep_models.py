@@ -89,7 +89,7 @@ class VrepModels(unittest.TestCase):
         self.assertEqual(image.result, 1)
         rng = wait_for_message(self.topic(robot, "proximity0"), Range)
         self.assertEqual(rng.header.frame_id, self.frame(robot, "base_prox0"))
-        imu = wait_for_message(self.topic(robot, self.profile.imu_role), Imu)
+        imu = wait_for_message(self.topic(robot, self.profile.imu_role or "imu"), Imu)
         self.assertEqual(imu.header.frame_id, self.frame(robot, "base_link"))
         self.assertEqual(wait_for_message(self.topic(robot, "camera"), Image).width, 40)
         info = wait_for_message(self.topic(robot, "camera_info"), CameraInfo)

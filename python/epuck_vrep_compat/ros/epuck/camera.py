@@ -5,6 +5,7 @@ top row first, frame ``<robot>/camera_optical``, with a latched ``camera_info`` 
 The image publisher has a queue of 1: a slow viewer drops frames instead of stalling the step.
 :meth:`CameraFace.sync` follows robots added to and removed from the simulation.
 """
+import numpy as np
 import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
@@ -17,8 +18,10 @@ class CameraFace(Face):
     """Each robot's ``camera`` image (at the camera's rate, while someone subscribes) and its
     latched ``camera_info``."""
 
-    def __init__(self, profile, sim):
+    def __init__(self, profile, sim, mode="rgb"):
+        """``mode``: "rgb" (rgb8) or "gray" (mono8, ITU-R BT.601 luma, the drivers' grey)."""
         self.profile = profile
+        self.mode = mode
         self.sim = sim
         self._period_s = 1.0 / sim.camera.rate_hz
         self._cameras = {}            # robot name -> _Camera
@@ -33,6 +36,7 @@ class CameraFace(Face):
         for name, robot in zip(names_now, self.sim.robots):
             if name not in self._cameras:
                 self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot)
+                self._cameras[name].gray = self.mode == "gray"
 
     def publish(self, step: Step):
         """Render and publish each camera that is due and has a subscriber."""
@@ -51,6 +55,7 @@ class _Camera:
         self.sensor = robot.parts["camera"].properties["vision"]
         self.frame = profile.frame(name, names.CAMERA_FRAME)
         self.next_due_s = 0.0
+        self.gray = False
         self.image = rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1)
         self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
                                     queue_size=1, latch=True)
@@ -59,6 +64,8 @@ class _Camera:
 
     def render(self, secs: int, nsecs: int) -> Image:
         rgb, _depth = self.sensor.render()
+        if self.gray:
+            rgb = np.rint(rgb @ np.array([0.299, 0.587, 0.114])).clip(0, 255).astype(np.uint8)
         msg = fill_image(Image(), rgb)
         msg.header.stamp = rospy.Time(secs, nsecs)
         msg.header.frame_id = self.frame
