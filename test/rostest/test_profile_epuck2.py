@@ -31,6 +31,9 @@ def yaw_of(q):
     return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
+PER_STEP_TOPICS = ("ground_truth", "battery", "dist_sens", "mag_field", "imu", "odom")
+
+
 class ProfileEpuck2(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -64,11 +67,10 @@ class ProfileEpuck2(unittest.TestCase):
         self.assertTrue(result.success, result.message)
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
-            if all(self._latest(r, "ground_truth") is not None and
-                   abs(self._latest(r, "ground_truth").header.stamp.to_sec() - result.sim_time)
-                   < 1e-6 and self._latest(r, "battery") is not None and
-                   abs(self._latest(r, "battery").header.stamp.to_sec() - result.sim_time) < 1e-6
-                   for r in ROBOTS):
+            # every per-step topic read by the tests, each on its own connection
+            if all(self._latest(r, t) is not None and
+                   abs(self._latest(r, t).header.stamp.to_sec() - result.sim_time) < 1e-6
+                   for r in ROBOTS for t in PER_STEP_TOPICS):
                 return result.sim_time
             time.sleep(0.01)
         self.fail(f"no messages stamped {result.sim_time}")
