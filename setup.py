@@ -19,6 +19,7 @@ setup(**generate_distutils_setup(
         "epuck_vrep_compat.vrep",
         "epuck_vrep_compat.nodes",
         "epuck_vrep_compat.thesis",
+        "epuck_vrep_compat.fidelity",
     ],
     package_dir={"": "python"},
 ))

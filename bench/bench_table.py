@@ -43,11 +43,12 @@ HEADER = ("| N | ours (a) RTF | ours (b) RTF | (b) messages/s (ours / bare roscp
 
 
 def markdown_table(rows):
-    """One line per N found in ``rows`` (the JSON records of run_benchmark.py)."""
+    """One line per N found in ``rows`` (the JSON records of run_benchmark.py; ours: profile
+    ``vrep``, the epuck2_driver rows stay JSON lines)."""
     lines = [HEADER]
     for n in sorted({r["robots"] for r in rows if "robots" in r}):
-        a = _find(rows, n, scenario="a_none_subscribed")
-        b = _find(rows, n, scenario="b_all_subscribed")
+        a = _find(rows, n, scenario="a_none_subscribed", profile="vrep")
+        b = _find(rows, n, scenario="b_all_subscribed", profile="vrep")
         cpp10 = _find(rows, n, peer="enki_cpp", step_s=0.01)
         cpp50 = _find(rows, n, peer="enki_cpp", step_s=0.05)
         py_b = _find(rows, n, peer="enki", controller="braitenberg")

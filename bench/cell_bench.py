@@ -10,6 +10,11 @@ over ``--seconds`` of wall time:
 - each topic's rate in simulated time (messages / simulated seconds) and in wall time (the thesis
   nodes poll ``/vrep`` on a wall-clock rate, so flat out they fall behind in simulated time);
 - the simulator's peak resident memory (VmHWM).
+With ``--safety`` the cell is ``merlin_safety.launch`` with the thesis's nodes, every robot
+supervised and the operator tracked (operator_tracker, ssm_supervisor, the kinect node), and each
+run also reports the supervisor's reaction: per approach of the operator, the simulated steps
+from the IRB 140's published separation first falling below its S_p to the published scale
+first below 1 (negative: the slowdown began before S_p was crossed, as it is meant to).
 Needs a built, sourced workspace and ``bench/build.sh``. Prints one JSON line per run and a
 table; ``--json FILE`` writes both runs.
 """
@@ -26,6 +31,7 @@ import time
 import rosgraph
 import rospy
 from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Float64
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -55,7 +61,39 @@ def simulator_pid(master_uri):
     return xmlrpc.client.ServerProxy(uri).getPid("/cell_bench")[2]
 
 
-def run(rtf, seconds):
+class ReactionMeter:
+    """The supervisor's reaction per approach (see the module's docstring), in steps."""
+
+    def __init__(self, clock, step_s=0.05, robot="IRB140"):
+        self.clock, self.step_s = clock, step_s
+        self.latest = {}
+        self.crossed_at = self.slowed_at = None
+        self.measured = False           # this approach's reaction is in
+        self.reactions = []
+        ns = f"/ssm_supervisor/{robot}/"
+        self._subs = [rospy.Subscriber(ns + k, Float64, self._on, k, queue_size=10)
+                      for k in ("separation", "protective_separation", "scale")]
+
+    def _on(self, msg, key):
+        self.latest[key] = msg.data
+        if len(self.latest) < 3:
+            return
+        t = self.clock["t"]
+        inside = self.latest["separation"] < self.latest["protective_separation"]
+        slowed = self.latest["scale"] < 1.0
+        if self.slowed_at is None and slowed:
+            self.slowed_at = t
+        if self.crossed_at is None and inside:
+            self.crossed_at = t
+        if not self.measured and self.crossed_at is not None and self.slowed_at is not None:
+            self.reactions.append(round((self.slowed_at - self.crossed_at) / self.step_s))
+            self.measured = True
+        if not slowed and not inside:              # the operator has left: a new approach
+            self.crossed_at = self.slowed_at = None
+            self.measured = False
+
+
+def run(rtf, seconds, safety=False):
     port = free_port()
     uri = f"http://127.0.0.1:{port}"
     env = dict(os.environ, ROS_MASTER_URI=uri)
@@ -65,7 +103,9 @@ def run(rtf, seconds):
     launch = sub = None
     try:
         time.sleep(1.0)
-        launch = subprocess.Popen(["roslaunch", "epuck_vrep_compat", "merlin_cell.launch",
+        command = (["merlin_safety.launch", "nodes:=true", "robots:=[]"] if safety
+                   else ["merlin_cell.launch"])
+        launch = subprocess.Popen(["roslaunch", "epuck_vrep_compat", *command,
                                    f"rtf:={rtf}"], env=env, stdout=subprocess.DEVNULL,
                                   stderr=subprocess.DEVNULL, start_new_session=True)
         rospy.init_node("cell_bench", anonymous=True, disable_signals=True)
@@ -76,6 +116,7 @@ def run(rtf, seconds):
         while clock["t"] < 2.0 and time.monotonic() < deadline:
             time.sleep(0.1)
         time.sleep(5.0)                 # every node up and publishing
+        meter = ReactionMeter(clock) if safety else None
         sub = subprocess.Popen([os.path.join(HERE, "build", "subscribe_all"), "--per-topic",
                                 "--regex", r"^/(?!rosout).*"], env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
@@ -95,7 +136,8 @@ def run(rtf, seconds):
                 "topics": stats["topics"], "messages_per_wall_s": round(stats["rate_hz_total"]),
                 "mbytes_per_wall_s": round(stats["bytes"] / stats["wall_s"] / 1e6, 2),
                 "peak_rss_mb": round(peak_rss_mb(simulator_pid(uri)), 1),
-                "rate_per_sim_s": rates, "rate_per_wall_s": wall_rates}
+                "rate_per_sim_s": rates, "rate_per_wall_s": wall_rates,
+                "reaction_steps": meter.reactions if meter is not None else None}
     finally:
         if sub is not None and sub.poll() is None:
             sub.kill()
@@ -114,10 +156,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=30.0, help="wall time measured per run")
     ap.add_argument("--json", help="write the results here")
+    ap.add_argument("--safety", action="store_true",
+                    help="merlin_safety.launch: tracker and supervisor too")
     ap.add_argument("--one", type=float, help=argparse.SUPPRESS)   # one run, in a child
     args = ap.parse_args()
     if args.one is not None:
-        print(json.dumps(run(args.one, args.seconds)), flush=True)
+        print(json.dumps(run(args.one, args.seconds, args.safety)), flush=True)
         return
     machine = {"cpu": platform.processor() or platform.machine(), "cores": os.cpu_count(),
                "python": platform.python_version(), "kernel": platform.release()}
@@ -128,7 +172,8 @@ def main():
     for rtf in (1.0, 0.0):
         # a process per run: rospy's node cannot move to another master
         out = subprocess.run([sys.executable, __file__, "--one", str(rtf), "--seconds",
-                              str(args.seconds)], capture_output=True, text=True, check=True)
+                              str(args.seconds)] + (["--safety"] if args.safety else []),
+                             capture_output=True, text=True, check=True)
         r = json.loads(out.stdout.strip().splitlines()[-1])
         print(json.dumps(r), flush=True)
         results.append(r)
@@ -143,7 +188,8 @@ def main():
                                      for r in results))
     for r in results:
         print(f"rtf:={r['rtf_requested']}: achieved RTF {r['rtf']}, peak RSS "
-              f"{r['peak_rss_mb']} MB, {r['topics']} topics")
+              f"{r['peak_rss_mb']} MB, {r['topics']} topics"
+              + (f", supervisor reaction {r['reaction_steps']} steps" if args.safety else ""))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"machine": machine, "runs": results}, f, indent=1)

@@ -19,6 +19,10 @@ of (b): a bare roscpp process (``build/floor_sender``) advertising the same topi
 the same messages flat out, with no simulation, to the same ``subscribe_all`` (roscpp writes
 each message on its own; our writer coalesces a topic's messages, so it may beat this "floor").
 Messages per second are counted over the measured window, once every subscription connected.
+The rows are profile ``vrep``'s; ``--epuck2-robots`` adds rows of profile ``epuck2_driver``
+(its extra sensors: time-of-flight ray, magnetometer, battery, ground sensors, microphones,
+their topics), by default at N = 100. Commands are SI (``cmd_vel_scaling:=si``) in both, so
+the robots drive alike.
 Requires a built workspace (``tools/setup``) sourced, and ``bench/build.sh`` run.
 
     bench/run_benchmark.py --robots 1 10 100 1000 --json results/bench.jsonl
@@ -48,7 +52,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CELL_SIDE_M = 0.30
 ARENA_MARGIN_M = 0.10
 SIM_NODE = "/vrep"
-PER_ROBOT_TOPIC = re.compile(r"^/ePuck(\d+)/")
+# per profile: each robot's cmd_vel, the subscriber's regex, a robot's topics (index captured)
+PROFILE_TOPICS = {"vrep": ("/ePuck{i}/cmd_vel", r"^/(ePuck\d+/.*|tf)$", r"^/ePuck(\d+)/"),
+                  "epuck2_driver": ("/epuck_robot_{i}/mobile_base/cmd_vel",
+                                    r"^/(epuck_robot_\d+/.*|tf)$", r"^/epuck_robot_(\d+)/")}
 
 
 def free_port():
@@ -90,30 +97,31 @@ class ClockWatch:
         return (self.sim_s - s0) / (time.monotonic() - t0)
 
 
-def robots_registered(master, n):
+def robots_registered(master, n, robot_topic):
     """True once every robot has as many topics (published and subscribed by the simulator)
     registered with the master as the robot with the most, and that is at least nine (eight
     ranges and the IMU)."""
     publishers, subscribers, _services = master.getSystemState()
     counts = [0] * n
     for topic, nodes in publishers + subscribers:
-        match = PER_ROBOT_TOPIC.match(topic)
+        match = robot_topic.match(topic)
         if match and SIM_NODE in nodes and int(match.group(1)) < n:
             counts[int(match.group(1))] += 1
     return min(counts) == max(counts) >= 9
 
 
-def watch_registration(n, started_at, result, timeout_s=600.0):
+def watch_registration(n, profile, started_at, result, timeout_s=600.0):
     """Poll the master until every robot's topics are registered; store the time taken."""
     master = rosgraph.Master("/bench_registration_watch")
+    robot_topic = re.compile(PROFILE_TOPICS[profile][2])
     while time.monotonic() - started_at < timeout_s:
-        if robots_registered(master, n):
+        if robots_registered(master, n, robot_topic):
             result["topics_s"] = round(time.monotonic() - started_at, 3)
             return
         time.sleep(0.05)
 
 
-def run_ours(n, measure_s, subscribe, cell_m):
+def run_ours(n, measure_s, subscribe, cell_m, profile="vrep"):
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
@@ -127,18 +135,20 @@ def run_ours(n, measure_s, subscribe, cell_m):
         clock = ClockWatch()
         registration = {}
         started_at = time.monotonic()
-        watcher = threading.Thread(target=watch_registration, args=(n, started_at, registration),
-                                   daemon=True)
+        watcher = threading.Thread(target=watch_registration,
+                                   args=(n, profile, started_at, registration), daemon=True)
         watcher.start()
         sim = subprocess.Popen(["rosrun", "epuck_vrep_compat", "epuck_sim", f"_n:={n}",
                                 f"_world:={world}", "_rtf:=0.0", "_cmd_timeout_s:=0.0",
-                                "_noise:=true"], env=env, stdout=subprocess.DEVNULL,
+                                "_noise:=true", f"_profile:={profile}",
+                                "_cmd_vel_scaling:=si"], env=env, stdout=subprocess.DEVNULL,
                                stderr=subprocess.DEVNULL)
         deadline = time.monotonic() + 600
         while clock.sim_s == 0.0 and time.monotonic() < deadline:
             time.sleep(0.01)
         watcher.join()
-        pubs = [rospy.Publisher(f"/ePuck{i}/cmd_vel", Twist, queue_size=1, latch=True)
+        cmd_topic, regex, _robot_topic = PROFILE_TOPICS[profile]
+        pubs = [rospy.Publisher(cmd_topic.format(i=i), Twist, queue_size=1, latch=True)
                 for i in range(n)]
         cmd = Twist()
         cmd.linear.x = 0.08
@@ -146,13 +156,13 @@ def run_ours(n, measure_s, subscribe, cell_m):
             p.publish(cmd)
         if subscribe:
             sub = subprocess.Popen([os.path.join(HERE, "build", "subscribe_all"),
-                                    "--regex", r"^/(ePuck\d+/.*|tf)$"], env=env,
+                                    "--regex", regex], env=env,
                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
         time.sleep(5.0 + n / 50.0)       # connections (latched commands, subscriber) settle
         if sub is not None:
             sub.send_signal(signal.SIGUSR1)   # the subscriber counts this window only
         rtf = clock.rtf_over(measure_s)
-        result = {"sim": "epuck_vrep_compat", "robots": n, "step_s": 0.05,
+        result = {"sim": "epuck_vrep_compat", "profile": profile, "robots": n, "step_s": 0.05,
                   "scenario": "b_all_subscribed" if subscribe else "a_none_subscribed",
                   "rtf": round(rtf, 3), "peak_rss_mb": round(peak_rss_mb(sim.pid), 1),
                   "cell_m": cell_m, "first_step_s": round(clock.first_at - started_at, 3),
@@ -254,26 +264,27 @@ def main():
                     help="side of each robot's square start cell (m), for every simulator")
     ap.add_argument("--floor", action="store_true",
                     help="also measure (b)'s per-message floor with a bare C++ sender")
+    ap.add_argument("--epuck2-robots", type=int, nargs="*", default=[100],
+                    help="N of the epuck2_driver rows (none: skip them)")
+    ap.add_argument("--no-enki", action="store_true", help="skip the Enki peers")
     ap.add_argument("--peers-only", action="store_true",
                     help="run only Enki C++ and pyenki (to check the peers quickly)")
     ap.add_argument("--json", help="append JSON lines here")
     args = ap.parse_args()
     rows = [{"machine": machine()}]
     for n in args.robots:
-        for subscribe in () if args.peers_only else (False, True):
-            # each scenario in its own process: rospy allows one init_node per process
-            out = subprocess.run([sys.executable, __file__, "--one", str(n), str(int(subscribe)),
-                                  str(args.measure_s), str(args.cell_m)],
-                                 capture_output=True, text=True)
-            rows.append(json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0
-                        else {"robots": n, "error": out.stderr[-500:]})
-            print(json.dumps(rows[-1]), flush=True)
+        if not args.peers_only:
+            rows += run_scenarios(n, args.measure_s, args.cell_m, "vrep")
         if args.floor and not args.peers_only:
             rows.append(run_floor(n, args.measure_s))
             print(json.dumps(rows[-1]), flush=True)
+        if args.no_enki:
+            continue
         for r in run_peers(n, args.cell_m):
             rows.append(r)
             print(json.dumps(r), flush=True)
+    for n in [] if args.peers_only else args.epuck2_robots:
+        rows += run_scenarios(n, args.measure_s, args.cell_m, "epuck2_driver")
     print(markdown_table(rows), flush=True)
     if args.json:
         with open(args.json, "a") as f:
@@ -281,9 +292,23 @@ def main():
                 f.write(json.dumps(r) + "\n")
 
 
+def run_scenarios(n, measure_s, cell_m, profile):
+    """Scenarios (a) and (b) at N robots, each in its own process (rospy allows one
+    init_node per process)."""
+    rows = []
+    for subscribe in (False, True):
+        out = subprocess.run([sys.executable, __file__, "--one", str(n), str(int(subscribe)),
+                              str(measure_s), str(cell_m), profile],
+                             capture_output=True, text=True)
+        rows.append(json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0
+                    else {"robots": n, "profile": profile, "error": out.stderr[-500:]})
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
 if __name__ == "__main__":
-    if len(sys.argv) == 6 and sys.argv[1] == "--one":
+    if len(sys.argv) == 7 and sys.argv[1] == "--one":
         print(json.dumps(run_ours(int(sys.argv[2]), float(sys.argv[4]), bool(int(sys.argv[3])),
-                                  float(sys.argv[5]))))
+                                  float(sys.argv[5]), sys.argv[6])))
     else:
         main()

@@ -101,6 +101,8 @@ class CollisionWorld {
   void remove(int handle);
   /// True when @p handle names an object.
   bool has(int handle) const;
+  /// The object of a handle (for the core's own queries). Throws UnknownHandle.
+  const Body& body(int handle) const;
   /// Every handle, ascending.
   std::vector<int> handles() const;
   /// Changes an object's colour (0..1 per channel). Throws UnknownHandle.

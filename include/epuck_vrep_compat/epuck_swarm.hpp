@@ -66,6 +66,10 @@ class EpuckSwarm {
   /// [0, kMaxImuStddev].
   void set_imu_noise(const Eigen::Ref<const RowMatrixXd>& accel_stddev,
                      const Eigen::Ref<const RowMatrixXd>& gyro_stddev);
+  /// Constant accelerometer (m/s^2) and gyroscope (rad/s) bias per robot and axis, each (N, 3),
+  /// finite with |value| <= kMaxImuStddev (imu_model.hpp's b_a and b_g).
+  void set_imu_bias(const Eigen::Ref<const RowMatrixXd>& accel_bias,
+                    const Eigen::Ref<const RowMatrixXd>& gyro_bias);
   /// Relative wheel-speed noise SD per robot, (N,), in [0, kMaxSlipStddev].
   void set_slip_noise(const Eigen::Ref<const VectorXd>& stddev);
   /// Restarts every noise stream of every robot from @p seed.
@@ -136,6 +140,8 @@ class EpuckSwarm {
     std::vector<RangeNoise> ir_noise;
     Vec3 accel_stddev = Vec3::Zero();
     Vec3 gyro_stddev = Vec3::Zero();
+    Vec3 accel_bias = Vec3::Zero();
+    Vec3 gyro_bias = Vec3::Zero();
     double slip_stddev = 0.0;
     Rng ir_rng, accel_rng, gyro_rng, slip_rng;
   };

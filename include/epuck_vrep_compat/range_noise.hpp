@@ -5,13 +5,19 @@
 ///
 ///     u ~ U(0, 1]
 ///     if u <= p:                       (the reading is noisy with probability p)
-///         n = mean_m + stddev_m * N(0, 1)
+///         n = |mean_m + stddev_m * N(0, 1)|     (the size of the error, always >= 0)
 ///         r' = r + n            if r == r_min
 ///         r' = r - n            if r == r_max        (nothing detected: noise can only shorten)
 ///         r' = r + n or r - n   otherwise, each with probability 1/2 (one more draw: <= 0.5 adds)
 ///     else:
 ///         r' = r
 ///     r' = clamp(r', r_min, r_max)
+///
+/// The error's size is folded to be non-negative because the e-puck paper configured mean_m and
+/// stddev_m as those of the real sensor's errors, which are one-sided (0.05 m minus the reading
+/// in open space): a signed draw would turn into a longer reading at r_max, be clamped away, and
+/// hide part of the configured probability. With mean_m >= 3 stddev_m the folding changes the
+/// distribution by less than 0.2 %.
 ///
 /// The draw order above is part of the model: a replay with the same seed gives the same values.
 #pragma once
@@ -26,8 +32,8 @@ namespace evc {
 /// Parameters of the noise model of one sensor.
 struct RangeNoise {
   double probability = 0.0;  ///< chance that a reading is noisy, in [0, 1]
-  double mean_m = 0.0;       ///< mean of the noise magnitude, metres
-  double stddev_m = 0.0;     ///< standard deviation of the noise magnitude, metres (>= 0)
+  double mean_m = 0.0;       ///< mean of the error's size before folding, metres
+  double stddev_m = 0.0;     ///< its standard deviation before folding, metres (>= 0)
 };
 
 /// Throws std::invalid_argument unless the parameters are finite, 0 <= probability <= 1 and

@@ -24,6 +24,7 @@ __all__ = [
     "LaserScanner",
     "RayProximityArray",
     "Rng",
+    "TofSensorArray",
     "apply_range_noise",
     "detect_blobs",
 ]

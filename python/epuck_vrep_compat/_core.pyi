@@ -121,6 +121,48 @@ class CollisionWorld:
     ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
         """Camera x forward, y left, z up; returns (rgb (H, W, 3), depth (H, W)), row 0 at
         the top; depth along the optical axis in [near_m, far_m], far_m for no hit."""
+    def closest_points(
+        self, handle_a: int, handle_b: int
+    ) -> Tuple[float, FloatArray, FloatArray]:
+        """(distance m, < 0 overlapping; point on A (3,); point on B (3,)), world frame."""
+    def minimum_distances(
+        self, handles_a: List[int], handles_b: List[int], group_of_b: List[int], groups: int
+    ) -> Tuple[FloatArray, FloatArray, FloatArray, IntArray, IntArray]:
+        """Per group of B objects, the closest pair with any A object: (distance (G,), +inf
+        for an empty group; point on A (G, 3); point on B (G, 3); A index (G,); B handle (G,))."""
+    def minimum_distances_to(
+        self,
+        shapes_a: List["ConvexShape"],
+        positions_a: ArrayLike,
+        quaternions_a: ArrayLike,
+        handles_b: List[int],
+        group_of_b: List[int],
+        groups: int,
+    ) -> Tuple[FloatArray, FloatArray, FloatArray, IntArray, IntArray]:
+        """minimum_distances with the A objects given by value, at poses (M, 3), (M, 4)."""
+
+class ConvexShape:
+    """A convex shape by value (box, cylinder, sphere, capsule; axes along local z)."""
+
+    kind: str
+    @staticmethod
+    def box(half_extents: ArrayLike) -> "ConvexShape": ...
+    @staticmethod
+    def cylinder(radius: float, height: float) -> "ConvexShape": ...
+    @staticmethod
+    def sphere(radius: float) -> "ConvexShape": ...
+    @staticmethod
+    def capsule(radius: float, segment: float) -> "ConvexShape": ...
+
+def closest_points(
+    shape_a: ConvexShape,
+    position_a: ArrayLike,
+    quaternion_a: ArrayLike,
+    shape_b: ConvexShape,
+    position_b: ArrayLike,
+    quaternion_b: ArrayLike,
+) -> Tuple[float, FloatArray, FloatArray]:
+    """Closest points of two shapes at poses: (distance m, point on A, point on B)."""
 
 class ConeSensor:
     """Mount (body frame: x forward, y left, z up from the ground) and cone of an IR sensor."""
@@ -189,6 +231,8 @@ class EpuckSwarm:
         """Each (N, K)."""
     def set_imu_noise(self, accel_stddev: ArrayLike, gyro_stddev: ArrayLike) -> None:
         """Each (N, 3)."""
+    def set_imu_bias(self, accel_bias: ArrayLike, gyro_bias: ArrayLike) -> None:
+        """Each (N, 3): m/s^2 and rad/s, added to every reading."""
     def set_slip_noise(self, stddev: ArrayLike) -> None:
         """(N,)."""
     def reseed(self, seed: int) -> None: ...
@@ -381,3 +425,30 @@ class BatchWriter:
     def backlog_bytes(self) -> int: ...
     @property
     def connection_count(self) -> int: ...
+class TofSensorArray:
+    """One VL53L0X time-of-flight sensor per robot (the e-puck2's ``dist_sens``): the distance
+    along its pitched axis to the first surface, Gaussian noise of SD stddev_m + stddev_rel d
+    from each robot's own stream (keyed by a stable robot id), clamped to [min, max]; max where
+    nothing is within max."""
+
+    def __init__(
+        self,
+        mount_m: npt.ArrayLike = ...,
+        pitch_rad: float = -0.21,
+        min_range_m: float = 0.005,
+        max_range_m: float = 2.0,
+        stddev_m: float = 0.003,
+        stddev_rel: float = 0.02,
+        seed: int = 0,
+    ) -> None:
+        """Mount (3,) in the body frame, m; pitch about body y, rad (negative looks up)."""
+    def read(
+        self,
+        world: CollisionWorld,
+        planar_poses: npt.ArrayLike,
+        body_handles: Sequence[int],
+        robot_ids: Sequence[int],
+        noise: bool = True,
+    ) -> npt.NDArray[np.float64]:
+        """Ranges (N,) m of N robots at planar poses (N, 3) x, y, yaw. Releases the GIL."""
+    def reseed(self, seed: int) -> None: ...

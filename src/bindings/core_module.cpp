@@ -228,6 +228,8 @@ void bind_swarm(py::module_& m) {
            "stddev_m"_a, "IR noise per robot and sensor, each (N, K).")
       .def("set_imu_noise", &EpuckSwarm::set_imu_noise, "accel_stddev"_a, "gyro_stddev"_a,
            "IMU noise SD per robot and axis, each (N, 3): m/s^2 and rad/s.")
+      .def("set_imu_bias", &EpuckSwarm::set_imu_bias, "accel_bias"_a, "gyro_bias"_a,
+           "Constant IMU bias per robot and axis, each (N, 3): m/s^2 and rad/s.")
       .def("set_slip_noise", &EpuckSwarm::set_slip_noise, "stddev"_a,
            "Relative wheel-speed noise SD per robot, (N,).")
       .def("reseed", &EpuckSwarm::reseed, "seed"_a, "Restarts every noise stream from seed.")
@@ -275,8 +277,10 @@ void bind_swarm(py::module_& m) {
 }
 
 }  // namespace
+void bind_distance(py::module_& m);  // distance_bindings.cpp
 void bind_cell(py::module_& m);  // cell_bindings.cpp
 void bind_wire(py::module_& m);  // wire_bindings.cpp
+void bind_epuck2(py::module_& m);  // epuck2_bindings.cpp
 }  // namespace evc
 
 PYBIND11_MODULE(_core, m) {
@@ -300,6 +304,8 @@ PYBIND11_MODULE(_core, m) {
   evc::bind_world(m);
   evc::bind_model(m);
   evc::bind_swarm(m);
+  evc::bind_distance(m);
   evc::bind_cell(m);
   evc::bind_wire(m);
+  evc::bind_epuck2(m);
 }

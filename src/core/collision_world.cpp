@@ -173,6 +173,8 @@ void CollisionWorld::remove(int handle) {
 
 bool CollisionWorld::has(int handle) const { return bodies_.count(handle) != 0; }
 
+const Body& CollisionWorld::body(int handle) const { return find(handle); }
+
 std::vector<int> CollisionWorld::handles() const {
   std::vector<int> out;
   out.reserve(bodies_.size());

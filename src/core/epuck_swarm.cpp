@@ -145,6 +145,18 @@ void EpuckSwarm::set_imu_noise(const Eigen::Ref<const RowMatrixXd>& accel_stddev
   }
 }
 
+void EpuckSwarm::set_imu_bias(const Eigen::Ref<const RowMatrixXd>& accel_bias,
+                              const Eigen::Ref<const RowMatrixXd>& gyro_bias) {
+  check_shape(accel_bias, size(), 3, "accel_bias");
+  check_shape(gyro_bias, size(), 3, "gyro_bias");
+  check_stddev(accel_bias.cwiseAbs(), kMaxImuStddev, "|accel_bias|");
+  check_stddev(gyro_bias.cwiseAbs(), kMaxImuStddev, "|gyro_bias|");
+  for (int i = 0; i < size(); ++i) {
+    robots_[i].accel_bias = accel_bias.row(i).transpose();
+    robots_[i].gyro_bias = gyro_bias.row(i).transpose();
+  }
+}
+
 void EpuckSwarm::set_slip_noise(const Eigen::Ref<const VectorXd>& stddev) {
   if (stddev.size() != size()) {
     throw std::invalid_argument("stddev must have shape (" + std::to_string(size()) + ",)");
@@ -247,9 +259,10 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
   robot.has_velocity = true;
   // The velocities are chords of the previous and this step, so their difference belongs to
   // the instant between them: the start of this step, and the heading the robot had then.
-  robot.accel = add_axis_noise(specific_force(accel_world, yaw_at_start_rad, model_.gravity_m_s2),
-                               robot.accel_stddev, robot.accel_rng);
-  robot.gyro = add_axis_noise(Vec3(0.0, 0.0, velocity.z()), robot.gyro_stddev, robot.gyro_rng);
+  const Vec3 force = specific_force(accel_world, yaw_at_start_rad, model_.gravity_m_s2);
+  robot.accel = add_axis_noise(force + robot.accel_bias, robot.accel_stddev, robot.accel_rng);
+  robot.gyro = add_axis_noise(Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias, robot.gyro_stddev,
+                              robot.gyro_rng);
 }
 
 // @p candidates: what the robot's cones may see (from the batch query in step).

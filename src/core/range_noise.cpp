@@ -28,7 +28,7 @@ double apply_range_noise(double clean_m, double min_range_m, double max_range_m,
   double reading = clean_m;
   applied = rng.uniform() <= noise.probability;
   if (applied) {
-    const double magnitude = noise.mean_m + noise.stddev_m * rng.normal();
+    const double magnitude = std::abs(noise.mean_m + noise.stddev_m * rng.normal());
     if (clean_m == min_range_m) {
       reading += magnitude;
     } else if (clean_m == max_range_m) {

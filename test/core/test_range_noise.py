@@ -56,3 +56,16 @@ def test_same_seed_same_noise_and_probability_zero_changes_nothing():
 def test_bad_parameters_raise_value_error(probability, stddev, clean):
     with pytest.raises(ValueError):
         _core.apply_range_noise(np.array([clean]), MIN, MAX, probability, 0.0, stddev, 1)
+
+
+def test_no_error_vanishes_in_the_clamp_at_max_range():
+    # Mean 0: a signed draw would lengthen half of the readings at max range, and the clamp
+    # would hide them (p = 0.16 showing as 0.08). The error's size is folded, so all show.
+    clean = np.full(20000, MAX)
+    noisy, applied = _core.apply_range_noise(clean, MIN, MAX, 0.16, 0.0, 0.003, 5)
+    wrong = noisy < MAX
+    assert np.array_equal(wrong, applied)
+    assert abs(wrong.mean() - 0.16) < 3 * math.sqrt(0.16 * 0.84 / clean.size)
+    # |N(0, sd)| has mean sd·√(2/π).
+    errors = MAX - noisy[wrong]
+    assert abs(errors.mean() - 0.003 * math.sqrt(2 / math.pi)) < 3 * 0.003 / math.sqrt(errors.size)

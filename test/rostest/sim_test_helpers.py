@@ -56,6 +56,9 @@ class Collector:
         with self._lock:
             self.messages = []
 
+    def get_num_connections(self):
+        return self._sub.get_num_connections()
+
     def unregister(self):
         self._sub.unregister()
 
@@ -97,3 +100,16 @@ def simulator_topics(node="/vrep"):
     types = dict(master.getTopicTypes())
     return ({t for t, nodes in pubs if node in nodes}, {t for t, nodes in subs if node in nodes},
             types)
+
+
+def unpause_when_subscribed(subscribers, timeout_s=60.0):
+    """Unpause a simulator started paused once every subscriber (or Collector) is connected,
+    so they miss nothing from the first step on."""
+    from std_srvs.srv import Empty
+    deadline = time.monotonic() + timeout_s
+    while any(s.get_num_connections() == 0 for s in subscribers):
+        if time.monotonic() > deadline:
+            raise AssertionError("the simulator's topics never connected")
+        time.sleep(0.05)
+    rospy.wait_for_service("/vrep/unpause", timeout=timeout_s)
+    rospy.ServiceProxy("/vrep/unpause", Empty)()

@@ -102,6 +102,9 @@ class BadInput(unittest.TestCase):
             (["_profile:=webots"], "~profile"),
             (["_n:=5000"], "~n"),
             (["_rtf:=-1.0"], "~rtf"),
+            (["_noise_preset:=real"], "~noise_preset"),
+            (["_noise_file:=/nonexistent/noise.yaml"], "~noise_file"),
+            ([f"_noise_file:={malformed}"], "noise file must be a mapping"),
             (['_robots:={ePuck9: {ir_noise: {probability: 0.5}}}'], "~robots/ePuck9"),
         ]
         try:

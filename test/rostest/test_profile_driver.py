@@ -8,7 +8,10 @@ import rostest
 import tf2_ros
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import Imu, LaserScan, Range
+from sensor_msgs.msg import Image, Imu, LaserScan, Range
+from visualization_msgs.msg import Marker
+
+from epuck_vrep_compat.sim import paper_robot as paper
 
 from sim_test_helpers import PKG, RosoutGuard, simulator_topics, wait_for_message
 
@@ -29,7 +32,10 @@ class ProfileDriver(unittest.TestCase):
             expected.update({f"/{robot}/scan": "sensor_msgs/LaserScan",
                              f"/{robot}/odom": "nav_msgs/Odometry",
                              f"/{robot}/accel": "sensor_msgs/Imu",
-                             f"/{robot}/camera": "sensor_msgs/Image"})
+                             f"/{robot}/camera": "sensor_msgs/Image",
+                             f"/{robot}/floor": "visualization_msgs/Marker",
+                             f"/{robot}/microphone": "visualization_msgs/Marker",
+                             f"/{robot}/motor_speed": "visualization_msgs/Marker"})
             for topic, msg_type in expected.items():
                 self.assertIn(topic, published)
                 self.assertEqual(types[topic], msg_type, topic)
@@ -58,8 +64,22 @@ class ProfileDriver(unittest.TestCase):
         self.assertEqual(accel.angular_velocity.z, 0.0)
         self.assertEqual(accel.angular_velocity_covariance[0], -1.0)  # no gyroscope
         np.testing.assert_allclose(np.reshape(accel.linear_acceleration_covariance, (3, 3)),
-                                   np.diag(np.square([0.03559, 0.03079, 0.04930])))
-        self.assertAlmostEqual(accel.linear_acceleration.z, 9.81, delta=0.3)
+                                   np.diag(np.square(paper.ACCEL_STDDEV_M_S2)))
+        self.assertAlmostEqual(accel.linear_acceleration.z, paper.TABLE1_REAL_MEAN_M_S2[2],
+                               delta=0.3)
+
+    def test_e_puck1_markers_and_camera_as_the_driver(self):
+        robot = ROBOTS[0]
+        floor = wait_for_message(f"/{robot}/floor", Marker)
+        self.assertRegex(floor.text, r"^floor: \[\d+, \d+, \d+, 0, 0\]$")
+        self.assertEqual(floor.header.frame_id, f"{robot}/base_link")
+        mic = wait_for_message(f"/{robot}/microphone", Marker)
+        self.assertEqual(mic.text, "mic: [0, 0, 0]")
+        speed = wait_for_message(f"/{robot}/motor_speed", Marker)
+        self.assertEqual(speed.text, "speed: [0, 0]")
+        self.assertAlmostEqual(speed.pose.position.z, 0.15)
+        image = wait_for_message(f"/{robot}/camera", Image, timeout_s=60)
+        self.assertEqual((image.width, image.height, image.encoding), (160, 2, "mono8"))
 
     def test_tf(self):
         buf = tf2_ros.Buffer()

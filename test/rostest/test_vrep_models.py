@@ -89,7 +89,7 @@ class VrepModels(unittest.TestCase):
         self.assertEqual(image.result, 1)
         rng = wait_for_message(self.topic(robot, "proximity0"), Range)
         self.assertEqual(rng.header.frame_id, self.frame(robot, "base_prox0"))
-        imu = wait_for_message(self.topic(robot, self.profile.imu_role), Imu)
+        imu = wait_for_message(self.topic(robot, self.profile.imu_role or "imu"), Imu)
         self.assertEqual(imu.header.frame_id, self.frame(robot, "base_link"))
         self.assertEqual(wait_for_message(self.topic(robot, "camera"), Image).width, 40)
         info = wait_for_message(self.topic(robot, "camera_info"), CameraInfo)
@@ -253,8 +253,11 @@ class VrepModels(unittest.TestCase):
                          -1)
         errors = self.last_errors()
         self.assertEqual(len(errors), 8, errors)
-        self.assertIn("simRosLoadModel: model file 'bubbleRob.ttm' is not known (models: "
-                      "ePuck.ttm, e-puck.ttm)", errors)
+        unknown = [e for e in errors if e.startswith(
+            "simRosLoadModel: model file 'bubbleRob.ttm' is not known (models: ")]
+        self.assertEqual(len(unknown), 1, errors)       # the list names every model file
+        self.assertIn("ePuck.ttm, e-puck.ttm", unknown[0])
+        self.assertIn("ABB IRB 140.ttm", unknown[0])
         self.assertIn("simRosRemoveModel: object handle 99999 does not exist", errors)
         self.assertTrue(any("is part of robot" in e and "'ePuck' instead" in e for e in errors))
         self.assertTrue(any("is a static scene object" in e for e in errors))

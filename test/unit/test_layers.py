@@ -25,7 +25,7 @@ LAYERS = (
     ("cell",),                          # the industrial cell, an extension of the simulation
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros",),                           # the simulator node and its faces
-    ("thesis", "nodes"),                # client nodes: they talk to the simulator through ROS
+    ("thesis", "nodes", "fidelity"),    # client nodes: they talk to the simulator through ROS
 )
 ROS_LAYERS = (                          # inside ros/, bottom first
     ("common",),                        # names defined once, throttled log, parameter checks

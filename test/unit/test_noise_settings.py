@@ -52,3 +52,38 @@ def test_master_switch_turns_every_source_off():
         swarm.step(0.05, np.array([[1.0, 1.0]]))
     np.testing.assert_array_equal(swarm.ranges, swarm.ranges_clean)
     np.testing.assert_allclose(swarm.poses[0, :2], swarm.odometry[0, :2], atol=1e-12)
+
+
+def test_presets_and_the_noise_file(tmp_path):
+    from epuck_vrep_compat.sim.noise_presets import load_noise_file, preset
+    with pytest.raises(NoiseConfigError, match="~noise_preset"):
+        preset("real")
+    path = tmp_path / "noise.yaml"
+    path.write_text("ir_noise: {probability: 0.3}\n"
+                    "imu_noise: {accel_bias_m_s2: [0.1, -0.2, 0.0]}\nfit: {anything: 1}\n")
+    s = load_noise_file(str(path), preset("vrep"))
+    np.testing.assert_array_equal(s.ir.probability, np.full(8, 0.3))
+    np.testing.assert_array_equal(s.ir.stddev_m, np.zeros(8))               # the preset's
+    np.testing.assert_array_equal(s.accel_bias_m_s2, [0.1, -0.2, 0.0])
+    for text, name in (("imu_noise: {accel_stddev_m_s2: -1}", "accel_stddev_m_s2"),
+                       ("ir_noise: {probabilty: 0.1}", "ir_noise"),
+                       ("wheel_slip: 0.1", "noise file"), ("[1, 2", "cannot read")):
+        path.write_text(text)
+        with pytest.raises(NoiseConfigError, match=name):
+            load_noise_file(str(path), preset("real_robot"))
+    with pytest.raises(NoiseConfigError, match="cannot read"):
+        load_noise_file(str(tmp_path / "missing.yaml"), preset("real_robot"))
+
+
+def test_imu_bias_reaches_the_core_and_bad_bias_is_refused():
+    swarm = _swarm(1)
+    NoiseSettings(accel_stddev_m_s2=np.zeros(3), gyro_stddev_rad_s=np.zeros(3),
+                  accel_bias_m_s2=np.array([0.1, -0.2, 0.3]),
+                  gyro_bias_rad_s=np.array([0.0, 0.0, 0.01])).apply(swarm, ["ePuck0"])
+    for _ in range(3):
+        swarm.step(0.05, np.zeros((1, 2)))
+    np.testing.assert_allclose(swarm.accel[0], [0.1, -0.2, 9.81 + 0.3], atol=1e-12)
+    np.testing.assert_allclose(swarm.gyro[0], [0.0, 0.0, 0.01], atol=1e-12)
+    for bad in (np.full((1, 3), np.nan), np.full((1, 3), 1e4), np.zeros((2, 3))):
+        with pytest.raises(ValueError):
+            swarm.set_imu_bias(bad, np.zeros((1, 3)))

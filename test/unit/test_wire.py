@@ -4,6 +4,7 @@ import math
 import struct
 
 import numpy as np
+import pytest
 from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, Range
@@ -62,9 +63,10 @@ def test_imu_batch_matches_genpy_and_rep_145():
             assert batch.frame(data, i) == _framed(msg)
 
 
-def test_odometry_batch_matches_genpy():
+@pytest.mark.parametrize("variances", [None, (0.001, 0.001, 1000.0, 1000.0, 1000.0, 0.001)])
+def test_odometry_batch_matches_genpy(variances):
     children = ["epuck_robot_1/base_link", "ePuck0/base_link"]
-    batch = wire.odometry_batch("odom", children)
+    batch = wire.odometry_batch("odom", children, variances)
     x, y, yaw = np.array([0.3, -1.0]), np.array([-0.4, 2.0]), np.array([1.2, -3.0])
     v, w = np.array([0.05, 0.0]), np.array([-0.3, 1.5])
     data = batch.pack(100, 0, **wire.planar_odometry_values(x, y, yaw, v, w))
@@ -75,6 +77,8 @@ def test_odometry_batch_matches_genpy():
         msg.pose.pose.orientation.z = np.sin(0.5 * yaw[i])
         msg.pose.pose.orientation.w = np.cos(0.5 * yaw[i])
         msg.twist.twist.linear.x, msg.twist.twist.angular.z = v[i], w[i]
+        if variances is not None:
+            msg.pose.covariance = np.diag(variances).ravel().tolist()
         assert batch.frame(data, i) == _framed(msg)
         assert abs(msg.pose.pose.orientation.z - math.sin(0.5 * yaw[i])) < 1e-15
 

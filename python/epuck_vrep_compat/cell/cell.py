@@ -12,6 +12,7 @@ import numpy as np
 import pybullet as pb
 
 from epuck_vrep_compat._core import GROUP_ALL
+from epuck_vrep_compat.cell.loaded_models import load_cell_robot
 from epuck_vrep_compat.devices.arm_script import scripted_motion
 from epuck_vrep_compat.devices.articulated import ArticulatedRobot
 from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
@@ -43,7 +44,6 @@ class Cell(SimulationExtension):
         self.arms: List[ArticulatedRobot] = [ArticulatedRobot(self.client, a, registry)
                                              for a in spec.arms]
         self.arm_by_name: Dict[str, ArticulatedRobot] = {a.spec.name: a for a in self.arms}
-        self._script_time = 0.0
         self._links = LinkCollisions(self.arms, registry, world)
         self.operator, self.operator_handles = None, ()
         if spec.operator is not None:
@@ -61,6 +61,8 @@ class Cell(SimulationExtension):
     prox_handles = property(lambda self: self.proximity.handles)
     prox_rows = property(lambda self: self.proximity.rows)
     prox_distance = property(lambda self: self.proximity.distance)
+    # every link primitive in the collision world (handles, stacked link rows)
+    link_collisions = property(lambda self: self._links)
 
     # --- construction -------------------------------------------------------------------------
     def _link_row(self, link_name):
@@ -94,10 +96,10 @@ class Cell(SimulationExtension):
 
     # --- stepping -----------------------------------------------------------------------------
     def step(self, dt: float):
-        self._script_time += dt
         for arm in self.arms:
+            arm.script_time += dt * arm.speed_scale     # a safety override slows the script
             if not arm.external:
-                scripted_motion(arm, self._script_time)
+                scripted_motion(arm, arm.script_time)
             arm.move_base(dt)
             arm.apply_commands()
         for _ in range(self.spec.substeps):
@@ -249,6 +251,19 @@ class Cell(SimulationExtension):
             self._place(arm)
             raise
 
+    def load_model(self, model):
+        """simLoadModel of a cell robot's model file (see :mod:`loaded_models`)."""
+        return load_cell_robot(self, model) if model.robot == "cell_robot" else None
+
+    def add_arm(self, arm):
+        """A robot built while the simulation runs (a model loaded): stepped from now on."""
+        self.arms.append(arm)
+        self.arm_by_name[arm.spec.name] = arm
+        self._links.add(arm, self.sim.registry, self.sim.world)
+        self._links.index(self.arms)
+        self._sync_world()
+        self._sense()
+
     def _place(self, arm):
         arm.place_base()
         arm.read_state()
@@ -259,7 +274,7 @@ class Cell(SimulationExtension):
         arm = self.arm_by_name.get(obj.robot)
         if arm is None or obj.part != "base" or not arm.spec.mobile:
             return np.zeros(3), np.zeros(3)
-        vx, vy, wz = arm.twist
+        vx, vy, wz = arm.twist * arm.speed_scale
         yaw = arm.base_xy_yaw[2]
         return (np.array([vx * math.cos(yaw) - vy * math.sin(yaw),
                           vx * math.sin(yaw) + vy * math.cos(yaw), 0.0]),
@@ -270,7 +285,6 @@ class Cell(SimulationExtension):
             arm.reset()
         if self.operator is not None:
             self.operator.reset()
-        self._script_time = 0.0
         if self.laser is not None:
             self.scanner.reseed(self.seed + LASER_SEED_OFFSET)
         if self.spec.kinect is not None:

@@ -20,15 +20,11 @@ import pybullet as pb
 from epuck_vrep_compat.devices.arm_joint import POSITION, VELOCITY, ArmJoint
 from epuck_vrep_compat.devices.kinematics import load_urdf_chain
 from epuck_vrep_compat.devices.link_collisions import Collision, parse_collisions
+from epuck_vrep_compat.devices.mecanum import (
+    MAX_WHEEL_SPEED_M_S, WHEEL_LX_PLUS_LY_M, WHEELS, body_twist, wheel_speeds)
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.transforms import (
     IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_yaw, quat_mul, quat_rotate)
-
-# youBot mecanum base: wheel radius and half wheel base + half track (models.md 4.1)
-WHEELS = ("fl", "rl", "rr", "fr")
-WHEEL_RADIUS_M = 0.0475
-WHEEL_LX_PLUS_LY_M = 0.228 + 0.158
-MAX_WHEEL_SPEED_M_S = 0.8       # the youBot datasheet's top speed (models.md 4.1)
 
 
 def _z_to_axis(axis):
@@ -44,17 +40,22 @@ def _z_to_axis(axis):
 
 
 class ArticulatedRobot:
-    """One URDF robot in pybullet and in the scene registry (base object named ``spec.name``)."""
+    """One URDF robot in pybullet and in the scene registry (base object named ``spec.name``;
+    its joints and links by their URDF names plus ``suffix``, as V-REP names a copy's)."""
 
-    def __init__(self, client: int, spec, registry: reg.SceneRegistry):
+    def __init__(self, client: int, spec, registry: reg.SceneRegistry, suffix: str = ""):
         self.client = client
         self.spec = spec
+        self.suffix = suffix
         self.chain = load_urdf_chain(spec.urdf)
         self.collisions = parse_collisions(spec.urdf)
         self.base_xy_yaw = np.array([spec.position_m[0], spec.position_m[1], spec.yaw_rad])
         self.base_z = float(spec.position_m[2])
         self.twist = np.zeros(3)               # body-frame vx, vy, wz (mobile bases)
         self.external = False                  # a client commanded it: the script stops
+        self.wheel_driven = False              # the base follows its wheels, not its twist
+        self.speed_scale = 1.0                 # a safety supervisor's override, 0..1
+        self.script_time = 0.0                 # the script's clock, slowed by the scale
         position, quat = self.base_pose()
         self.body = pb.loadURDF(spec.urdf, position.tolist(), quat.tolist(), useFixedBase=True,
                                 flags=pb.URDF_USE_INERTIA_FROM_FILE
@@ -75,7 +76,7 @@ class ArticulatedRobot:
         self.joints: List[ArmJoint] = []
         self.objects: Dict[str, reg.SceneObject] = {}
         self._register(registry, movable)
-        # mecanum wheels (youBot): driven from the base's twist
+        # mecanum wheels (youBot): driven from the base's twist, or driving it
         self.wheels = {w: self.movable_index(f"rollingJoint_{w}") for w in WHEELS}
         self.wheels = {w: k for w, k in self.wheels.items() if k is not None}
         # link frames in the world, refreshed every step (index = pybullet link index + 1)
@@ -94,19 +95,19 @@ class ArticulatedRobot:
             parent = self.objects[j.parent]
             if j.joint_type == "fixed":
                 self.objects[j.child] = registry.add(
-                    j.child, reg.SHAPE, parent.handle, j.origin_position, j.origin_quat,
+                    j.child + self.suffix, reg.SHAPE, parent.handle, j.origin_position, j.origin_quat,
                     robot=self.spec.name, part=j.child)
                 continue
             align = _z_to_axis(j.axis)
             k = movable_index[j.name]
-            joint_obj = registry.add(j.name, reg.JOINT, parent.handle, j.origin_position,
+            joint_obj = registry.add(j.name + self.suffix, reg.JOINT, parent.handle, j.origin_position,
                                      quat_mul(j.origin_quat, align), robot=self.spec.name,
                                      part=j.name)
             component = ArmJoint(self, k, j)
             joint_obj.properties["joint"] = component
             self.joints.append(component)
             self.objects[j.child] = registry.add(
-                j.child, reg.SHAPE, joint_obj.handle, robot=self.spec.name, part=j.child,
+                j.child + self.suffix, reg.SHAPE, joint_obj.handle, robot=self.spec.name, part=j.child,
                 pose_source=self._link_pose_source(k, component.prismatic, align))
 
     def _link_pose_source(self, k, prismatic, align):
@@ -125,10 +126,14 @@ class ArticulatedRobot:
 
     # --- commands ---------------------------------------------------------------------------
     def command(self, k: int, mode: str, value: float, external: bool = True):
+        """A joint's command; a client's command on a mecanum wheel hands the base to the
+        wheels (as V-REP's youBot is driven), until the next twist command."""
         if self.mode[k] != mode or self.target[k] != value:
             self.mode[k], self.target[k] = mode, value
             self.dirty[k] = True
         self.external = self.external or external
+        if external and self.spec.mobile and k in self.wheels.values():
+            self.wheel_driven = True
 
     def reset_joint(self, k: int, value: float):
         pb.resetJointState(self.body, self.joint_bullet[k], value, 0.0,
@@ -144,38 +149,56 @@ class ArticulatedRobot:
         scale = min(1.0, MAX_WHEEL_SPEED_M_S / fastest)
         self.twist[:] = (vx * scale, vy * scale, wz * scale)
         self.external = self.external or external
+        self.wheel_driven = False
         return tuple(float(v) for v in self.twist)
 
+    def set_speed_scale(self, scale: float):
+        """A safety override of every motion of the robot (script, position and velocity
+        commands, the base): speeds times ``scale``, clamped to [0, 1]; 0 holds every joint
+        where it is (a protective stop) until the scale rises again."""
+        scale = min(max(float(scale), 0.0), 1.0)
+        if scale != self.speed_scale:
+            self.speed_scale = scale
+            self.dirty = [True] * len(self.dirty)
+
     def apply_commands(self):
+        scale = self.speed_scale
         for k, joint in enumerate(self.joints):
             if not self.dirty[k]:
                 continue
             self.dirty[k] = False
             index, force = self.joint_bullet[k], joint.max_force
-            if self.mode[k] == POSITION:
+            if scale == 0.0:        # pybullet reads maxVelocity 0 as "no limit": hold instead
+                pb.setJointMotorControl2(self.body, index, pb.VELOCITY_CONTROL,
+                                         targetVelocity=0.0, force=force,
+                                         physicsClientId=self.client)
+            elif self.mode[k] == POSITION:
                 pb.setJointMotorControl2(self.body, index, pb.POSITION_CONTROL,
                                          targetPosition=float(self.target[k]), force=force,
-                                         maxVelocity=joint.max_velocity,
+                                         maxVelocity=joint.max_velocity * scale,
                                          physicsClientId=self.client)
             else:
                 limit = joint.max_velocity
-                velocity = min(max(float(self.target[k]), -limit), limit)
+                velocity = min(max(float(self.target[k]), -limit), limit) * scale
                 pb.setJointMotorControl2(self.body, index, pb.VELOCITY_CONTROL,
                                          targetVelocity=velocity, force=force,
                                          physicsClientId=self.client)
 
     def move_base(self, dt: float):
-        """Mobile bases move kinematically by their body-frame twist; mecanum wheels turn to
-        match (inverse kinematics of a 4-wheel mecanum base)."""
+        """Mobile bases move kinematically by their body-frame twist, and the mecanum wheels
+        turn to match; or, once a client drove the wheels, the twist is the wheels' (forward
+        kinematics of their velocity targets, or of their speeds under position control)."""
         if not self.spec.mobile:
             return
-        vx, vy, wz = self.twist
-        spin = WHEEL_LX_PLUS_LY_M * wz
-        speeds = {"fl": vx - vy - spin, "rl": vx + vy - spin, "rr": vx - vy + spin,
-                  "fr": vx + vy + spin}
-        for w, k in self.wheels.items():
-            self.command(k, VELOCITY, speeds[w] / WHEEL_RADIUS_M, external=False)
-        if not self.twist.any():
+        if self.wheel_driven and len(self.wheels) == len(WHEELS):
+            self.twist[:] = body_twist({w: self.target[k] if self.mode[k] == VELOCITY
+                                        else self.qd[k] for w, k in self.wheels.items()})
+        else:
+            for w, omega in wheel_speeds(*self.twist).items():
+                if w in self.wheels:
+                    self.command(self.wheels[w], VELOCITY, omega, external=False)
+        vx, vy, wz = self.twist * self.speed_scale
+        if not (vx or vy or wz):
             return
         x, y, yaw = self.base_xy_yaw
         mid = yaw + 0.5 * wz * dt
@@ -210,7 +233,8 @@ class ArticulatedRobot:
         self.base_z = float(self.spec.position_m[2])
         self.place_base()
         self.twist[:] = 0.0
-        self.external = False
+        self.external = self.wheel_driven = False
+        self.script_time = 0.0
         for k, joint in enumerate(self.joints):
             home = joint._clamped(0.0)
             pb.resetJointState(self.body, self.joint_bullet[k], home, 0.0,

@@ -92,12 +92,16 @@ class LinkCollisions:
     def __init__(self, arms, registry, world):
         self._entries = []      # (arm, handle, row in the arm's links, primitive)
         for arm in arms:
-            for k, (row, part) in enumerate(arm.collision_parts()):
-                link_obj = arm.objects[arm.link_names[row]]
-                handle = _collision_handle(registry, link_obj, k, arm.spec.name)
-                add_primitive(world, handle, part, arm.spec.color, GROUP_ROBOT)
-                self._entries.append((arm, handle, row, part))
+            self.add(arm, registry, world)
         self.index(arms)
+
+    def add(self, arm, registry, world):
+        """An arm's primitives into the world (index again after)."""
+        for k, (row, part) in enumerate(arm.collision_parts()):
+            link_obj = arm.objects[arm.link_names[row]]
+            handle = _collision_handle(registry, link_obj, k, arm.spec.name)
+            add_primitive(world, handle, part, arm.spec.color, GROUP_ROBOT)
+            self._entries.append((arm, handle, row, part))
 
     def index(self, arms):
         """The stacked arrays, from the arms there are (in the order of their links' rows)."""

@@ -1,7 +1,9 @@
 """Model files: what ``simRosLoadModel`` can load, and how a V-REP file name finds one.
 
 A model file is a small YAML file (see ``models/ePuck.yaml``): ``robot`` (the model it
-instantiates; ``epuck`` is the only one), ``aliases`` (other file names that load it, e.g.
+instantiates: ``epuck``, or ``cell_robot`` for a URDF robot of the industrial cell, which also
+gives ``urdf`` (relative to the model file), ``name`` (its base object's), ``mobile`` and
+``height_m`` (its base's height); see ``models/IRB140.yaml``), ``aliases`` (other file names that load it, e.g.
 V-REP's ``e-puck.ttm``), ``position_m`` and ``yaw_rad`` (the robot goes to the free place
 nearest to that point). A request names a model by
 
@@ -21,7 +23,7 @@ from typing import Tuple
 
 from epuck_vrep_compat.scene.validation import SceneError, number, numbers, only, read_yaml
 
-ROBOTS = ("epuck",)
+ROBOTS = ("epuck", "cell_robot")
 _EXTENSIONS = (".ttm", ".yaml")
 MAX_MODEL_FILE_BYTES = 64 * 1024     # ours are a few hundred bytes; parsing more takes seconds
 
@@ -37,6 +39,10 @@ class ModelFile:
     robot: str = "epuck"
     position_m: Tuple[float, float] = (0.0, 0.0)
     yaw_rad: float = 0.0
+    urdf: str = ""             # cell_robot: absolute path of its URDF
+    name: str = ""             # cell_robot: its base object's name (the URDF's root link)
+    mobile: bool = False
+    height_m: float = 0.0
 
 
 class ModelLibrary:
@@ -80,7 +86,8 @@ class ModelLibrary:
 def read_model_file(path: str) -> ModelFile:
     data = _load(path)
     try:
-        only(data, {"robot", "aliases", "position_m", "yaw_rad"}, path)
+        only(data, {"robot", "aliases", "position_m", "yaw_rad", "urdf", "name", "mobile",
+                    "height_m"}, path)
         robot = data.get("robot")
         if robot not in ROBOTS:
             raise SceneError(f"{path}: robot must be one of {list(ROBOTS)}, got {robot!r}")
@@ -89,9 +96,25 @@ def read_model_file(path: str) -> ModelFile:
             raise SceneError(f"{path}: aliases must be a list of file names, got {aliases!r}")
         position = tuple(numbers(data.get("position_m", [0.0, 0.0]), 2, f"{path}: position_m"))
         yaw = number(data.get("yaw_rad", 0.0), f"{path}: yaw_rad")
+        cell = _cell_robot(data, path) if robot == "cell_robot" else {}
     except SceneError as e:
         raise ModelFileError(str(e)) from None
-    return ModelFile(path, robot, position, yaw)
+    return ModelFile(path, robot, position, yaw, **cell)
+
+
+def _cell_robot(data, path):
+    """The cell robot's fields: its URDF (which must exist), name, mobility and height."""
+    urdf, name = data.get("urdf"), data.get("name")
+    if not isinstance(urdf, str) or not isinstance(name, str) or not name:
+        raise SceneError(f"{path}: a cell_robot needs 'urdf' and 'name' (strings)")
+    urdf = os.path.join(os.path.dirname(os.path.abspath(path)), urdf)
+    if not os.path.isfile(urdf):
+        raise SceneError(f"{path}: urdf '{urdf}' does not exist")
+    mobile = data.get("mobile", False)
+    if not isinstance(mobile, bool):
+        raise SceneError(f"{path}: mobile must be true or false")
+    return dict(urdf=urdf, name=name, mobile=mobile,
+                height_m=number(data.get("height_m", 0.0), f"{path}: height_m"))
 
 
 def _aliases(path: str):

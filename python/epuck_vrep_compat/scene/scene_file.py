@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
 from epuck_vrep_compat.scene.cell_file import CellSpec, parse_cell
+from epuck_vrep_compat.scene.floor_regions import FloorRegion, parse_floor_regions
 from epuck_vrep_compat.scene.validation import (  # noqa: F401  (SceneError, read_yaml: API)
     SceneError, as_list, color, number, numbers, only, positive, read_yaml)
 
@@ -58,6 +59,7 @@ class Scene:
     robots: List[RobotStart] = field(default_factory=list)
     cell: Optional[CellSpec] = None          # arms, operator, sensors
     source: Optional[str] = None
+    floor_regions: List[FloorRegion] = field(default_factory=list)   # ground sensors see them
 
 
 def load_scene(path: str) -> Scene:
@@ -72,7 +74,7 @@ def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:
     """``base_dir``: where relative file names in the scene (URDFs) are looked up."""
     if not isinstance(data, dict):
         raise SceneError(f"{where}: the top level must be a mapping")
-    only(data, {"arena", "obstacles", "robots", "cell"}, where)
+    only(data, {"arena", "obstacles", "robots", "cell", "floor_regions"}, where)
     arena = _arena(data.get("arena", {}), f"{where}: arena")
     obstacles = [_obstacle(o, i, f"{where}: obstacles[{i}]")
                  for i, o in enumerate(as_list(data.get("obstacles", []), f"{where}: obstacles"))]
@@ -84,7 +86,8 @@ def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:
     cell = None
     if "cell" in data:
         cell = parse_cell(data["cell"], f"{where}: cell", base_dir)
-    return Scene(arena, obstacles, robots, cell)
+    regions = parse_floor_regions(data.get("floor_regions", []), f"{where}: floor_regions")
+    return Scene(arena, obstacles, robots, cell, floor_regions=regions)
 
 
 def _arena(d, where) -> Arena:

@@ -38,3 +38,9 @@ class SimulationExtension:
 
     def reset(self) -> None:
         """After the simulation's reset (robots at their start poses, noise restarted)."""
+
+    def load_model(self, model):
+        """simLoadModel of a model file (``scene.model_files.ModelFile``) that is not an
+        e-puck: the new robot's base object, or None when the model is not this extension's;
+        ValueError when refused."""
+        return None

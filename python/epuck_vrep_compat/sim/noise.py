@@ -1,14 +1,15 @@
 """Noise configuration: validated values, expanded to the per-robot, per-sensor arrays of the core.
 
-Defaults are in metres and fitted to the real robot where the e-puck paper gives numbers: the IR
-noise probability 0.16 (61 noisy readings of 380 on sensor 0) and the accelerometer spread of the
-real robot in the paper's Table 1. The IR standard deviation (3 mm) and the gyro spread are ours:
-the paper shows the IR histogram but not its figures, and the e-puck 1 has no gyro.
+The defaults of these classes are the paper's real robot; ``sim/paper_robot.py`` derives them
+(each number with its unit and source); ``sim/noise_presets.py`` holds the named presets and
+the noise file.
 """
 from dataclasses import dataclass, field
 from typing import Dict, Sequence
 
 import numpy as np
+
+from epuck_vrep_compat.sim import paper_robot as real
 
 IR_COUNT = 8
 
@@ -20,9 +21,10 @@ class NoiseConfigError(ValueError):
 @dataclass
 class IrNoise:
     """The e-puck's infrared proximity noise, per sensor: probability, mean and spread."""
-    probability: np.ndarray = field(default_factory=lambda: np.full(IR_COUNT, 0.16))
-    mean_m: np.ndarray = field(default_factory=lambda: np.zeros(IR_COUNT))
-    stddev_m: np.ndarray = field(default_factory=lambda: np.full(IR_COUNT, 0.003))
+    probability: np.ndarray = field(
+        default_factory=lambda: np.full(IR_COUNT, real.IR_PROBABILITY))
+    mean_m: np.ndarray = field(default_factory=lambda: np.full(IR_COUNT, real.IR_MEAN_M))
+    stddev_m: np.ndarray = field(default_factory=lambda: np.full(IR_COUNT, real.IR_STDDEV_M))
 
 
 @dataclass
@@ -33,9 +35,11 @@ class NoiseSettings:
     ir: IrNoise = field(default_factory=IrNoise)
     ir_per_robot: Dict[str, IrNoise] = field(default_factory=dict)     # by robot name
     accel_stddev_m_s2: np.ndarray = field(
-        default_factory=lambda: np.array([0.03559, 0.03079, 0.04930]))
-    gyro_stddev_rad_s: np.ndarray = field(default_factory=lambda: np.full(3, 0.005))
-    wheel_slip_stddev: float = 0.05       # relative, per wheel per step
+        default_factory=lambda: np.array(real.ACCEL_STDDEV_M_S2))
+    accel_bias_m_s2: np.ndarray = field(default_factory=lambda: np.array(real.ACCEL_BIAS_M_S2))
+    gyro_stddev_rad_s: np.ndarray = field(default_factory=lambda: np.full(3, real.GYRO_STDDEV))
+    gyro_bias_rad_s: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    wheel_slip_stddev: float = real.WHEEL_SLIP_STDDEV   # relative, per wheel per step
 
     def apply(self, swarm, robot_names: Sequence[str]):
         """Write the settings into the core swarm's arrays (one row per robot, in order)."""
@@ -45,6 +49,8 @@ class NoiseSettings:
         sd = np.zeros((n, IR_COUNT))
         accel = np.zeros((n, 3))
         gyro = np.zeros((n, 3))
+        accel_bias = np.zeros((n, 3))
+        gyro_bias = np.zeros((n, 3))
         slip = np.zeros(n)
         if self.enabled:
             for i, name in enumerate(robot_names):
@@ -52,9 +58,12 @@ class NoiseSettings:
                 prob[i], mean[i], sd[i] = ir.probability, ir.mean_m, ir.stddev_m
             accel[:] = self.accel_stddev_m_s2
             gyro[:] = self.gyro_stddev_rad_s
+            accel_bias[:] = self.accel_bias_m_s2
+            gyro_bias[:] = self.gyro_bias_rad_s
             slip[:] = self.wheel_slip_stddev
         swarm.set_ir_noise(prob, mean, sd)
         swarm.set_imu_noise(accel, gyro)
+        swarm.set_imu_bias(accel_bias, gyro_bias)
         swarm.set_slip_noise(slip)
 
 
@@ -69,13 +78,14 @@ def per_sensor(value, name: str, minimum=None, maximum=None) -> np.ndarray:
     return arr
 
 
-def triple(value, name: str) -> np.ndarray:
+def triple(value, name: str, minimum=0.0) -> np.ndarray:
+    """A scalar or a list of 3 numbers (x, y, z), validated; ``name`` is the parameter's name."""
     arr = np.asarray(value, dtype=float) if _numeric(value) else None
     if arr is None or arr.shape not in ((), (3,)):
         raise NoiseConfigError(f"parameter '{name}' must be a number or a list of 3 numbers, "
                                f"got {value!r}")
     arr = np.broadcast_to(arr, (3,)).copy()
-    _check_range(arr, name, 0.0, None)
+    _check_range(arr, name, minimum, None)
     return arr
 
 

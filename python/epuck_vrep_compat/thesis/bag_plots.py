@@ -7,6 +7,7 @@
 - ``<Robot>_joint_<n>.png`` (figures 5.11 to 5.24): joint n's absolute position x, y, z over
   time, from /<Robot>_PosOrAss; time is headerGiunto's stamp (the bag's receive time where the
   stamp is 0), in seconds from the topic's first message.
+- ``ssm_<robot>.png``: a safety run's separation, S_p and speed scale (:mod:`ssm_plots`).
 A topic the bag does not have is reported and its plots skipped.
 """
 import os
@@ -17,6 +18,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from epuck_vrep_compat.thesis.names import BLOB_TOPIC_FORMAT, CAMERAS, ROBOTS
+from epuck_vrep_compat.thesis.ssm_plots import plot_ssm
 
 BLOB_MATCH_TOLERANCE_S = 0.025      # half of V-REP's default 50 ms step
 
@@ -120,4 +122,4 @@ def plot_all(bag, outdir: str) -> List[str]:
         for indice, (nome, t, xyz) in tracks.items():
             report.append(plot_joint_track(label, indice, nome, t, xyz, os.path.join(
                 outdir, f"{label}_joint_{indice + 1}.png")))
-    return report
+    return report + plot_ssm(bag, topics, outdir)

@@ -11,7 +11,8 @@ from typing import Tuple
 
 from epuck_vrep_compat.scene import robots as models
 # WORLD_FRAME: headerGiunto.header.frame_id of absolute poses
-from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE, WORLD_FRAME  # noqa: F401
+from epuck_vrep_compat.ros.common.names import (  # noqa: F401
+    BLOB_TOPIC_FORMAT, KINECT_DEPTH_IMAGE_TOPIC, NODE, NODE_NAMESPACE, WORLD_FRAME)
 
 VREP_NODE = NODE
 
@@ -72,9 +73,6 @@ KINECT_NODE = "kinect"
 KINECT_DEPTH_SENSOR = "kinect_depth"
 KINECT_RGB_SENSOR = "kinect_rgb"
 KINECT_DEPTH_BUFFER_TOPIC = "/kinect/depth_buffer"     # std_msgs/Float32MultiArray, V-REP 0..1
-KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"       # sensor_msgs/Image 32FC1 [m]
 KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
 
-# The operator's blob, published by the cameras' child scripts through the plugin (thesis 5.1).
-BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
 

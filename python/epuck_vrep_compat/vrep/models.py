@@ -9,8 +9,12 @@ or a static scene object. A new robot is named as V-REP names a pasted model (th
 largest suffix plus one) and placed where it touches nothing. Failures raise
 :class:`VrepError` and change nothing.
 """
+from collections import namedtuple
+
 from epuck_vrep_compat.scene.model_files import ModelFileError
 from epuck_vrep_compat.vrep.errors import VrepError
+
+LoadedRobot = namedtuple("LoadedRobot", "root")    # a cell robot loaded: its base object
 
 
 class VrepModels:
@@ -38,6 +42,8 @@ class VrepModels:
         :meth:`read_model` read it (read here when None)."""
         if model is None:
             model = self.read_model(file_name)
+        if model.robot != "epuck":
+            return LoadedRobot(self._load_by_extension(model, file_name))
         return self._add_robot(model.position_m, model.yaw_rad, f"model '{file_name}'")
 
     def copy_paste(self, handles):
@@ -72,6 +78,20 @@ class VrepModels:
             raise VrepError(f"object {handle} ('{obj.name}') is {owner}, not a robot's base "
                             f"object: only whole robots can be {what}")
         return obj
+
+    def _load_by_extension(self, model, file_name):
+        """A model an extension of the simulation builds (a cell robot): its base object; the
+        simulation's listeners (the faces) then follow, as after any robot added."""
+        try:
+            base = next(filter(None, (e.load_model(model) for e in self.sim.extensions)), None)
+        except ValueError as e:
+            raise VrepError(f"model '{file_name}' not loaded: {e}") from None
+        if base is None:
+            raise VrepError(f"model '{file_name}' not loaded: nothing in this scene loads "
+                            f"'{model.robot}' models (a scene without a cell)")
+        for listener in list(self.sim.listeners):
+            listener()
+        return base
 
     def _add_robot(self, near_xy, yaw_rad, what):
         try:

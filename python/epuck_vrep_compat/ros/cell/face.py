@@ -2,6 +2,8 @@
 
 - The laser scan (:mod:`laser`), the cell's TF (:mod:`transforms`), each robot's joint topics
   (:mod:`joints`) and what rviz needs (:mod:`rviz`).
+- The safety interface (:mod:`safety`): each robot's speed scale in, the operator-to-link
+  separation service.
 - The ceiling cameras' blob positions, exactly as the thesis's child script did it: each step
   the cell writes the camera's blob x and y as float signals (``Cell._write_blob_signals``), and
   publishers of those signals (``simros_strmcmd_get_float_signal``) are enabled here, through
@@ -13,6 +15,7 @@ from vrep_common.srv import simRosEnablePublisherRequest
 from epuck_vrep_compat.ros.cell.joints import ArmTopics
 from epuck_vrep_compat.ros.cell.laser import LaserTopic
 from epuck_vrep_compat.ros.cell.rviz import CellRviz
+from epuck_vrep_compat.ros.cell.safety import CellSafety
 from epuck_vrep_compat.ros.cell.transforms import CellTransforms
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.face import Face, Step
@@ -36,18 +39,24 @@ class CellFace(Face):
         self._blob_enabled = False
         self._backend.control.listeners.append(self._on_state)
         self._laser = LaserTopic(self.cell) if self.cell.laser is not None else None
-        log = ThrottledLog()
+        self._lock, self._log = lock, ThrottledLog()
+        log = self._log
+        self._safety = CellSafety(sim, lock, log)
         self._arms = {arm.spec.name: ArmTopics(arm, lock, log) for arm in self.cell.arms}
         self._transforms = CellTransforms(sim, static_tf)
         self._rviz = CellRviz(sim, static_tf)
 
     def sync(self):
-        """Follow the cell's objects after a removal (between steps, under the lock): the
-        removed robots' topics and descriptions, the laser's topic and the removed objects' TF
-        frames go; the markers are re-sent."""
+        """Follow the cell's objects after a removal or a robot loaded (between steps, under
+        the lock): the removed robots' topics and descriptions, the laser's topic and the
+        removed objects' TF frames go, a loaded robot's come; the markers are re-sent."""
         for name in [n for n in self._arms if n not in self.cell.arm_by_name]:
             self._arms.pop(name).close()
             self._rviz.forget_robot(name)
+        for arm in [a for a in self.cell.arms if a.spec.name not in self._arms]:
+            self._arms[arm.spec.name] = ArmTopics(arm, self._lock, self._log)
+            self._rviz.describe(arm)
+        self._safety.sync()
         if self._laser is not None and self.cell.laser is None:
             self._laser.close()
             self._laser = None

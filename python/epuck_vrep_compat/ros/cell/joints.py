@@ -13,6 +13,7 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 
 from epuck_vrep_compat.devices.articulated import POSITION, VELOCITY
+from epuck_vrep_compat.ros.common.names import ros_robot_name
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 
@@ -23,7 +24,7 @@ class ArmTopics:
         self.arm = arm
         self._lock = lock
         self._log = log
-        ns = "/" + arm.spec.name
+        ns = "/" + ros_robot_name(arm.spec.name)
         self._msg = JointState(name=arm.joint_names())
         self._subscribers = [rospy.Subscriber(ns + "/joint_command", JointState,
                                               self._on_joint_command, queue_size=10)]

@@ -7,7 +7,8 @@ import rospy
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE, ODOM_FRAME, WORLD_FRAME
+from epuck_vrep_compat.ros.common.names import (
+    NODE_NAMESPACE, ODOM_FRAME, WORLD_FRAME, ros_robot_name)
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.ros.transport.static_tf import static_transform
 
@@ -33,6 +34,11 @@ class CellRviz:
         """A removed robot's description goes."""
         if rospy.has_param(_description_param(name)):
             rospy.delete_param(_description_param(name))
+
+    @staticmethod
+    def describe(arm):
+        """A robot added while running (a model loaded): its description."""
+        rospy.set_param(_description_param(arm.spec.name), arm.description())
 
     def publish_markers(self):
         self._markers.publish(self._marker_array())
@@ -64,4 +70,4 @@ class CellRviz:
 
 
 def _description_param(robot_name):
-    return "/" + robot_name + "/robot_description"
+    return "/" + ros_robot_name(robot_name) + "/robot_description"

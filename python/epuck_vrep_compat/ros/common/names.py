@@ -12,3 +12,22 @@ ODOM_FRAME = "odom"                     # the fixed frame of the e-pucks (and th
 TF_TOPIC = "/tf"
 TF_STATIC_TOPIC = "/tf_static"            # latched: frames fixed to their parent
 CLOCK_TOPIC = "/clock"
+
+# The cell's safety interface (issue 13): a supervisor's speed override per robot, in; the
+# operator-to-link separation from the simulator's collision world, a service of /vrep.
+SPEED_SCALE_TOPIC = "/{robot}/speed_scale"              # std_msgs/Float64, 0..1
+OPERATOR_SEPARATION_SERVICE = NODE_NAMESPACE + "operator_separation"
+# The operator's blob, published by the ceiling cameras' child scripts through the plugin
+# (thesis 5.1): the thesis's nodes and the operator tracker read it.
+BLOB_TOPIC_FORMAT = NODE_NAMESPACE + "Blob_Camera_{camera}_{axis}"
+# The Kinect's depth in metres (sensor_msgs/Image 32FC1), from the thesis's [/kinect] node.
+KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"
+# What ssm_supervisor publishes per robot (std_msgs/Float64 unless said): separation,
+# protective_separation, scale, operator_uncertainty, protective_stop (Bool), status (String).
+SSM_TOPIC_FORMAT = "/ssm_supervisor/{robot}/{what}"
+
+
+def ros_robot_name(name: str) -> str:
+    """A robot's name in ROS names (topics, parameters): V-REP names a copy ``IRB140#0``, and
+    ``#`` is not allowed in a ROS name, so the copy's topics are ``/IRB140_0/...``."""
+    return name.replace("#", "_")

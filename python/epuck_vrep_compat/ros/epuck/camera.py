@@ -7,6 +7,7 @@ A step looks only at the cameras someone subscribes to (recounted on subscribe e
 thousand unwatched cameras cost nothing per step.
 :meth:`CameraFace.sync` follows robots added to and removed from the simulation.
 """
+import numpy as np
 import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
@@ -33,8 +34,10 @@ class CameraFace(Face):
     """Each robot's ``camera`` image (at the camera's rate, while someone subscribes) and its
     latched ``camera_info``."""
 
-    def __init__(self, profile, sim):
+    def __init__(self, profile, sim, mode="rgb"):
+        """``mode``: "rgb" (rgb8) or "gray" (mono8, ITU-R BT.601 luma, the drivers' grey)."""
         self.profile = profile
+        self.mode = mode
         self.sim = sim
         self._period_s = 1.0 / sim.camera.rate_hz
         self._cameras = {}            # robot name -> _Camera
@@ -53,6 +56,7 @@ class CameraFace(Face):
             if name not in self._cameras:
                 self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot,
                                               self._watch)
+                self._cameras[name].gray = self.mode == "gray"
         self.watched_stale = True
 
     def publish(self, step: Step):
@@ -76,6 +80,7 @@ class _Camera:
         self.sensor = robot.parts["camera"].properties["vision"]
         self.frame = profile.frame(name, names.CAMERA_FRAME)
         self.next_due_s = 0.0
+        self.gray = False
         self.image = rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1,
                                      subscriber_listener=watch)
         self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
@@ -85,6 +90,8 @@ class _Camera:
 
     def render(self, secs: int, nsecs: int) -> Image:
         rgb, _depth = self.sensor.render()
+        if self.gray:
+            rgb = np.rint(rgb @ np.array([0.299, 0.587, 0.114])).clip(0, 255).astype(np.uint8)
         msg = fill_image(Image(), rgb)
         msg.header.stamp = rospy.Time(secs, nsecs)
         msg.header.frame_id = self.frame

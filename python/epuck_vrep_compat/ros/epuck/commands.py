@@ -14,6 +14,7 @@ In every convention the core then clamps to the motors' 1000 steps/s, keeping th
 """
 import math
 
+from epuck_vrep_compat.ros.epuck import epuck2_leds
 from epuck_vrep_compat.sim.leds import LED_COUNT
 
 SCALINGS = ("si", "vrep", "epuck_driver")
@@ -50,6 +51,8 @@ def apply_led_command(profile: str, current, data):
     2 = toggle, as the driver's firmware protocol.
     """
     values = list(data)
+    if profile == "epuck2_driver":
+        return epuck2_leds.apply_led_command(current, values)
     if profile == "vrep":
         if not 1 <= len(values) <= LED_COUNT:
             return f"cmd_led needs 1 to {LED_COUNT} entries, got {len(values)}"

@@ -14,7 +14,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
-from epuck_vrep_compat.ros.epuck import commands, names
+from epuck_vrep_compat.ros.epuck import commands, epuck2_leds, names
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.scene.epuck_model import led_positions
@@ -34,6 +34,7 @@ class LedFace(Face):
         self._robots = {}             # robot name -> _Leds
         self._seen_changes = -1       # the LED model's change count at the last publication
         self._log = ThrottledLog()
+        self._colours = {}            # robot name -> {LED index: (r, g, b)} (e-puck2 RGB LEDs)
         self._markers = rospy.Publisher(MARKER_TOPIC, MarkerArray, queue_size=1, latch=True)
         self.sync()
 
@@ -61,6 +62,19 @@ class LedFace(Face):
                 self._log.warn(f"{name}:cmd_led", "%s: %s; ignored", name, result)
                 return
             self.sim.leds.set(name, result)
+
+    def _on_rgb_leds(self, msg, name):
+        """The e-puck2's ``rgb_leds`` (rospy thread): states and colours of its RGB LEDs."""
+        with self._lock:
+            current = self.sim.leds.get(name)
+            if current is None:
+                return
+            result = epuck2_leds.apply_rgb_command(current[0], bytearray(msg.data))
+            if isinstance(result, str):
+                self._log.warn(f"{name}:rgb_leds", "%s: %s; ignored", name, result)
+                return
+            self._colours.setdefault(name, {}).update(result[1])
+            self.sim.leds.set(name, result[0])
 
     def publish(self, step: Step):
         """After a step: re-send the LED states set since, and the markers with them."""
@@ -103,7 +117,9 @@ class LedFace(Face):
                                  model.body_height_m), ColorRGBA(0.9, 0.9, 0.85, 0.9))
             out.markers.append(body)
             for k, (x, y, z) in enumerate(leds[:9]):
-                color = _LED_ON if values[k] else _LED_OFF
+                rgb = self._colours.get(name, {}).get(k)
+                color = (_LED_OFF if not values[k] else _LED_ON if rgb is None
+                         else ColorRGBA(rgb[0], rgb[1], rgb[2], 1.0))
                 out.markers.append(shape_marker(frame, name + "/leds", k, Marker.SPHERE,
                                                 (x, y, z), (0.006, 0.006, 0.006), color))
         return out
@@ -132,8 +148,13 @@ class _Leds:
                                          queue_size=1, latch=True)
         self._subscriber = rospy.Subscriber(profile.topic(name, "cmd_led"), UInt8MultiArray,
                                             face._on_cmd_led, name, queue_size=10)
+        self._rgb = (rospy.Subscriber(profile.topic(name, "rgb_leds"), UInt8MultiArray,
+                                      face._on_rgb_leds, name, queue_size=10)
+                     if "rgb_leds" in profile.extras else None)
 
     def close(self):
         self._subscriber.unregister()
+        if self._rgb is not None:
+            self._rgb.unregister()
         self.publisher.unregister()
 

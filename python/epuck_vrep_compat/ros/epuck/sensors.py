@@ -66,7 +66,7 @@ class _Robot:
             listener.publishers.append(pub)      # before any subscriber can count on it
             return pub
         self.ranges = [publisher(f"proximity{k}", Range) for k in range(names.PROXIMITY_COUNT)]
-        self.imu = publisher(profile.imu_role, Imu)
+        self.imu = publisher(profile.imu_role, Imu) if profile.imu_role else None
         self.ground_truth = (publisher("ground_truth", Odometry) if face.publish_ground_truth
                              else None)
         self.odom = publisher("odom", Odometry) if profile.publishes_odometry else None
@@ -138,6 +138,9 @@ class EpuckFace(Face):
             if profile.has_gyro else None)
         self._odom_batch = wire.odometry_batch(names.ODOM_FRAME,
                                                [frame(r, names.BASE_FRAME) for r in robots])
+        self._wheel_odom_batch = wire.odometry_batch(  # the driver's covariance, if any
+            names.ODOM_FRAME, [frame(r, names.BASE_FRAME) for r in robots],
+            profile.odom_pose_variances)
         for i, robot in enumerate(self.robots):
             robot.outputs = self._outputs(i, robot)
 
@@ -146,11 +149,12 @@ class EpuckFace(Face):
         per_robot = names.PROXIMITY_COUNT
         out = [(pub, "range", self._range_batch.bounds(i * per_robot + k))
                for k, pub in enumerate(robot.ranges)]
-        out.append((robot.imu, "imu", self._imu_batch.bounds(i)))
+        if robot.imu is not None:
+            out.append((robot.imu, "imu", self._imu_batch.bounds(i)))
         if robot.ground_truth is not None:
             out.append((robot.ground_truth, "ground_truth", self._odom_batch.bounds(i)))
         if robot.odom is not None:
-            out.append((robot.odom, "odom", self._odom_batch.bounds(i)))
+            out.append((robot.odom, "odom", self._wheel_odom_batch.bounds(i)))
         return out
 
     # --- commands ------------------------------------------------------------------------
@@ -201,7 +205,7 @@ class EpuckFace(Face):
             return self._odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
                 poses[:, 0], poses[:, 1], yaw, forward, velocities[:, 2]))
         odometry = swarm.odometry
-        return self._odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
+        return self._wheel_odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
             *(odometry[:, k] for k in range(5))))
 
     def _scan(self, robot, secs, nsecs, ranges):

@@ -38,6 +38,9 @@ def robot_child_frames(profile, sim, index):
                 quat_mul(camera.local_quat, _OPTICAL_FROM_VISION)))
     if profile.publishes_scan:
         out.append((names.LASER_FRAME, np.array([0.0, 0.0, 0.034]), np.array([0, 0, 0, 1.0])))
+    if "dist_sens" in profile.extras:
+        out.append((names.DIST_SENS_FRAME, np.array(names.DIST_SENS_MOUNT_M),
+                    quat_from_axis_angle((0, 1, 0), names.DIST_SENS_PITCH_RAD)))
     return out
 
 

@@ -12,8 +12,12 @@ from epuck_vrep_compat.devices.components import CameraSpec
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed as _get
 from epuck_vrep_compat.ros.epuck.commands import SCALINGS
 from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.robot_names import parse_robot_names, unconventional_names
+from epuck_vrep_compat.ros.node.extras_params import read_extras_settings
+from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Settings
 from epuck_vrep_compat.sim.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
+from epuck_vrep_compat.sim.noise_presets import IMU_KEYS, load_noise_file, preset
 
 
 @dataclass
@@ -22,21 +26,27 @@ class SimParams:
 
     world: str = ""
     n: int = 1
+    robot_names: list = field(default_factory=list)   # one per robot (a namespace, or "/")
     profile: str = "vrep"
     seed: int = 0
     rtf: float = 1.0
     step_s: float = 0.05
     paused: bool = False
-    cmd_vel_scaling: str = "si"
-    cmd_timeout_s: float = 1.0
+    cmd_vel_scaling: str = "vrep"       # the profile's own (names.TopicProfile defaults)
+    cmd_timeout_s: float = 0.0
     accel_sign: str = "ros"
     publish_ground_truth: bool = True
     camera: CameraSpec = field(default_factory=CameraSpec)
+    camera_mode: str = "rgb"                  # "rgb" (rgb8) or "gray" (mono8)
     noise: NoiseSettings = field(default_factory=NoiseSettings)
+    noise_source: str = "real_robot"      # the preset, and the noise file over it if any
+    extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
 
     def summary(self) -> str:
-        return (f"world={self.world} n={self.n} profile={self.profile} seed={self.seed} "
-                f"noise={'on' if self.noise.enabled else 'off'} rtf={self.rtf} "
+        return (f"world={self.world} n={self.n} robots={','.join(self.robot_names[:4])}"
+                f"{'..' if self.n > 4 else ''} profile={self.profile} seed={self.seed} "
+                f"noise={'on' if self.noise.enabled else 'off'} ({self.noise_source}) "
+                f"rtf={self.rtf} "
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
                 f"{self.camera.width}x{self.camera.height}@{self.camera.rate_hz}Hz")
@@ -48,52 +58,92 @@ def read_params(default_world: str) -> SimParams:
     p.n = _get("n", 1, int, lambda v: 0 <= v <= 100000, "must be between 0 and 100000")
     p.profile = _get("profile", "vrep", str, lambda v: v in PROFILES,
                      f"must be one of {sorted(PROFILES)}")
+    p.robot_names = _read_robot_names(p)
+    p.n = len(p.robot_names)
     p.seed = _get("seed", 0, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")
     p.rtf = _get("rtf", 1.0, float, lambda v: v >= 0.0, "must be >= 0 (0 = as fast as possible)")
     p.step_s = _get("step_s", 0.05, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
-    p.cmd_vel_scaling = _get("cmd_vel_scaling", "si", str, lambda v: v in SCALINGS,
-                             f"must be one of {list(SCALINGS)}")
-    p.cmd_timeout_s = _get("cmd_timeout_s", 1.0, float, lambda v: v >= 0.0,
-                           "must be >= 0 (0 disables the watchdog)")
+    profile = PROFILES[p.profile]
+    # unset or empty: the profile's original (its units; commands persist, no watchdog)
+    p.cmd_vel_scaling = _get("cmd_vel_scaling", profile.default_cmd_vel_scaling, str,
+                             lambda v: v in SCALINGS, f"must be one of {list(SCALINGS)}")
+    p.cmd_timeout_s = _get("cmd_timeout_s", profile.default_cmd_timeout_s, float,
+                           lambda v: v >= 0.0, "must be >= 0 (0 disables the watchdog)")
     p.accel_sign = _get("accel_sign", "ros", str, lambda v: v in ("ros", "vrep"),
                         "must be 'ros' (+9.81 on z at rest) or 'vrep' (-9.81)")
     p.publish_ground_truth = _get("publish_ground_truth", True, bool)
     c = p.camera
-    c.width = _get("camera/width", c.width, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
-    c.height = _get("camera/height", c.height, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    width, height, p.camera_mode = profile.default_camera
+    c.width = _get("camera/width", width, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    c.height = _get("camera/height", height, int, lambda v: 1 <= v <= 2048, "must be 1..2048")
+    p.camera_mode = _get("camera/mode", p.camera_mode, str, lambda v: v in ("rgb", "gray"),
+                         "must be 'rgb' (rgb8) or 'gray' (mono8, the drivers' cam_mode 0)")
     c.rate_hz = _get("camera/rate_hz", c.rate_hz, float, lambda v: v > 0.0, "must be > 0")
-    c.vertical_fov_rad = _get("camera/vertical_fov_rad", c.vertical_fov_rad, float,
+    fov = (slice_fov(c.vertical_fov_rad, c.height) if profile.default_camera[2] == "gray"
+           else c.vertical_fov_rad)        # the drivers' window of the sensor at zoom 1
+    c.vertical_fov_rad = _get("camera/vertical_fov_rad", fov, float,
                               lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
-    p.noise = _read_noise(p.n, p.profile)
+    p.noise, p.noise_source = _read_noise(p.robot_names)
+    p.extras = read_extras_settings(profile)
     return p
 
 
-def _read_noise(n: int, profile: str) -> NoiseSettings:
-    s = NoiseSettings()
-    s.enabled = _get("noise", True, bool)
+def slice_fov(full_vertical_fov_rad: float, height: int, sensor_rows: int = 480) -> float:
+    """Vertical field of view of ``height`` rows of the e-puck's 640 x 480 sensor at zoom 1
+    (as the drivers' centred slices): the full image's below 480 rows, a narrow band for 2."""
+    if height >= sensor_rows:
+        return full_vertical_fov_rad
+    return 2.0 * math.atan(math.tan(0.5 * full_vertical_fov_rad) * height / sensor_rows)
+
+
+def _read_robot_names(p: SimParams) -> list:
+    """``~robot_names`` (a list, or names separated by commas); unset or empty: the profile's
+    ``n`` names (``ePuck0``.., ``epuck_robot_0``..)."""
+    profile = PROFILES[p.profile]
+    value = rospy.get_param("~robot_names", [])
+    if value in ([], "", None):
+        return [profile.robot_name(i) for i in range(p.n)]
     try:
+        names = parse_robot_names(value, profile)
+    except ValueError as e:
+        raise ParamError(f"parameter '~robot_names': {e}") from e
+    odd = unconventional_names(names, profile)
+    if odd:
+        rospy.logwarn("~robot_names: %s not named as the %s original names its robots; they work, "
+                      "but a client written for the original may look for other names",
+                      ", ".join(odd), profile.name)
+    return names
+
+
+def _read_noise(robot_names):
+    """(NoiseSettings, where they come from: the preset and the noise file)."""
+    try:
+        source = _get("noise_preset", "real_robot", str)
+        s = preset(source)
+        noise_file = _get("noise_file", "", str)
+        if noise_file:
+            s = load_noise_file(noise_file, s)
+            source += " + " + noise_file
+        s.enabled = s.enabled and _get("noise", True, bool)
         s.ir = _read_ir("ir_noise/", s.ir)
-        s.accel_stddev_m_s2 = triple(rospy.get_param("~imu_noise/accel_stddev_m_s2",
-                                                     s.accel_stddev_m_s2.tolist()),
-                                     "~imu_noise/accel_stddev_m_s2")
-        s.gyro_stddev_rad_s = triple(rospy.get_param("~imu_noise/gyro_stddev_rad_s",
-                                                     s.gyro_stddev_rad_s.tolist()),
-                                     "~imu_noise/gyro_stddev_rad_s")
+        for key in IMU_KEYS:
+            name = "~imu_noise/" + key
+            setattr(s, key, triple(rospy.get_param(name, getattr(s, key).tolist()), name,
+                                   None if "bias" in key else 0.0))
         robots = rospy.get_param("~robots", {})
         if not isinstance(robots, dict):
             raise ParamError("parameter '~robots' must be a mapping of robot name to overrides")
-        profile_names = {PROFILES[profile].robot_name(i) for i in range(n)}
         for name in robots:
-            if name not in profile_names:
+            if name not in robot_names:
                 raise ParamError(f"parameter '~robots/{name}': no robot of that name "
-                                 f"(robots are {PROFILES[profile].robot_name(0)}..)")
+                                 f"(robots are {', '.join(robot_names[:3])}..)")
             s.ir_per_robot[name] = _read_ir(f"robots/{name}/ir_noise/", s.ir)
     except NoiseConfigError as e:
         raise ParamError(str(e)) from e
     s.wheel_slip_stddev = _get("wheel_slip_stddev", s.wheel_slip_stddev, float,
                                lambda v: v >= 0.0, "must be >= 0")
-    return s
+    return s, source
 
 
 def _read_ir(prefix: str, base: IrNoise) -> IrNoise:

@@ -28,6 +28,8 @@ from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
 from epuck_vrep_compat.ros.common.names import CLOCK_TOPIC, NODE, NODE_NAME, TF_TOPIC
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
+from epuck_vrep_compat.ros.epuck.description import DescriptionFace
+from epuck_vrep_compat.ros.epuck.extras import ExtrasFace
 from epuck_vrep_compat.ros.epuck.leds import LedFace
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
@@ -42,6 +44,7 @@ from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
+from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Sensors
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
@@ -58,7 +61,7 @@ class SimulatorNode:
         self.params = params
         scene = load_scene(params.world)
         profile = PROFILES[params.profile]
-        names = [profile.robot_name(i) for i in range(params.n)]
+        names = params.robot_names
         try:
             self.sim = build_simulation(scene, names, params.step_s, params.seed, params.noise,
                                         params.cmd_timeout_s, params.camera, profile.robot_name)
@@ -77,7 +80,13 @@ class SimulatorNode:
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
         self.tf = TfFace(profile, self.sim, self._tf_static)
-        self.cameras = CameraFace(profile, self.sim)
+        self.cameras = CameraFace(profile, self.sim, params.camera_mode)
+        self.extras = None
+        if profile.extras:                   # the drivers' extra sensors, after the swarm's
+            sensors = Epuck2Sensors(self.sim, params.extras, scene.floor_regions,
+                                    scene.arena.floor_color)
+            self.sim.add_extension(sensors)
+            self.extras = ExtrasFace(profile, self.sim, sensors, params.accel_sign)
         models = ModelLibrary(models_dir) if models_dir else None
         self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models),
                              self._lock)
@@ -87,8 +96,9 @@ class SimulatorNode:
             from epuck_vrep_compat.ros.cell.face import CellFace
             self.cell = CellFace(self.sim, self.vrep.streams, self._lock, self._tf_static)
         # publication order: the cell enables the blob streams before /vrep publishes streams
-        self.faces = [f for f in (self.tf, self.epucks, self.cell, self.vrep, self.cameras,
-                                  self.leds) if f is not None]
+        self.descriptions = DescriptionFace(profile, self.sim)
+        self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
+                                  self.cameras, self.leds, self.descriptions) if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service("~pause", Empty, self._on_pause)
         rospy.Service("~unpause", Empty, self._on_unpause)

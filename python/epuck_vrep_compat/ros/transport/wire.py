@@ -121,14 +121,17 @@ def imu_batch(frame_ids, accel_variance, gyro_variance):
         "accel": ([h + 200 for h in head], "<f8", 3)})
 
 
-def odometry_batch(frame_id, child_frame_ids):
-    """``nav_msgs/Odometry`` of planar robots, no covariance; fields ``xy`` (2), ``qzw`` (2,
-    the yaw quaternion's z and w), ``v`` and ``w`` (1 each)."""
+def odometry_batch(frame_id, child_frame_ids, pose_variances=None):
+    """``nav_msgs/Odometry`` of planar robots; fields ``xy`` (2), ``qzw`` (2, the yaw
+    quaternion's z and w), ``v`` and ``w`` (1 each). The pose covariance is zero, or diagonal
+    with ``pose_variances`` (6: x, y, z, roll, pitch, yaw); the twist's is zero."""
+    pose_covariance = (bytes(288) if pose_variances is None else
+                       np.diag(np.asarray(pose_variances, dtype="<f8")).tobytes())
     bodies, positions = [], []
     for child in child_frame_ids:
         head = _header(frame_id) + _string(child)
         positions.append(len(head))
-        bodies.append(head + struct.pack("<7d", 0, 0, 0, 0, 0, 0, 1.0) + bytes(288)
+        bodies.append(head + struct.pack("<7d", 0, 0, 0, 0, 0, 0, 1.0) + pose_covariance
                       + bytes(48) + bytes(288))
     twist = [p + 56 + 288 for p in positions]
     return MessageBatch(Odometry, bodies, {

@@ -1,0 +1,238 @@
+"""``ssm_supervisor``: speed and separation monitoring (ISO/TS 15066) of the cell's robots, a
+plain client of the simulator (the arithmetic is in :mod:`ssm_model`).
+
+Every cycle (``~rate_hz``, simulation time): the operator's position (the tracker's estimate on
+``~operator_topic``, ``geometry_msgs/PoseWithCovarianceStamped``, or with ``~ground_truth``
+where he is) goes to ``/vrep/operator_separation``, which answers every link's minimum distance
+to his body from the simulator's collision world; each link's speed at its closest point comes
+from ``/<robot>/joint_states`` and ``/<robot>/robot_description``; the robot's separation is
+its links' minimum, S_p is taken at its fastest link's speed, and the speed scale goes to
+``/<robot>/speed_scale``, which the simulator applies to whatever moves the robot.
+
+Published per robot under ``~<robot>/``: ``separation``, ``protective_separation``, ``scale``
+and ``operator_uncertainty`` (Z_d) (``std_msgs/Float64``), ``protective_stop`` (``std_msgs/Bool``), ``status``
+(``std_msgs/String``, latched: why the robot is stopped); ``~markers`` for rviz.
+
+Fail safe: a missing, stale (older than ``~stale_s``) or non-finite operator estimate, stale
+joint states or a failed separation query stop the robot (scale 0), with the reason on
+``status`` and a throttled warning. ``~set_enabled`` (``std_srvs/SetBool``) turns the override
+off (scale 1, monitoring goes on) and on again. Parameters: ``~robots`` (default: every robot
+the simulator reports), ``~ground_truth`` (false), ``~rate_hz`` (20), ``~stale_s`` (0.5) and
+the fields of :class:`SsmParameters` with their defaults.
+"""
+import math
+
+import numpy as np
+import rospy
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Float64, String
+from std_srvs.srv import SetBool, SetBoolResponse
+from visualization_msgs.msg import MarkerArray
+
+from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds
+from epuck_vrep_compat.nodes.ssm_markers import robot_markers
+from epuck_vrep_compat.nodes.ssm_model import (
+    ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.common.names import (
+    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, WORLD_FRAME, ros_robot_name)
+from epuck_vrep_compat.ros.common.params import ParamError, read_typed
+from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationRequest
+
+
+def read_parameters():
+    """(SsmParameters, robots, ground_truth, rate_hz, stale_s, operator_topic); ParamError."""
+    p = SsmParameters()
+    for name, default in vars(SsmParameters()).items():
+        setattr(p, name, read_typed(name, default, float))
+    try:
+        p.check()
+    except ValueError as error:
+        raise ParamError(str(error)) from None
+    robots = rospy.get_param("~robots", [])
+    if not isinstance(robots, list) or not all(isinstance(r, str) and r for r in robots):
+        raise ParamError(f"parameter '~robots' must be a list of robot names, got {robots!r}")
+    positive = (lambda v: v > 0), "must be > 0"
+    return (p, robots, read_typed("ground_truth", False, bool),
+            read_typed("rate_hz", 20.0, float, *positive),
+            read_typed("stale_s", 0.5, float, *positive),
+            read_typed("operator_topic", "/operator_tracker/pose", str))
+
+
+class RobotChannel:
+    """One supervised robot: its joint states in, its scale and reports out."""
+
+    def __init__(self, name, p):
+        self.name = name
+        self.ros_name = ros_name = ros_robot_name(name)     # a copy's IRB140#0: IRB140_0
+        self.governor = ArmGovernor(p)
+        self.joints = None
+        self.kinematics = None
+        self.status = None
+        self._sub = rospy.Subscriber(f"/{ros_name}/joint_states", JointState, self._on_joints,
+                                     queue_size=1)
+        ns = f"~{ros_name}/"
+        self.command = rospy.Publisher(SPEED_SCALE_TOPIC.format(robot=ros_name), Float64,
+                                       queue_size=1)
+        self.out = {k: rospy.Publisher(ns + k, Float64, queue_size=1)
+                    for k in ("separation", "protective_separation", "scale",
+                              "operator_uncertainty")}
+        self.stop_pub = rospy.Publisher(ns + "protective_stop", Bool, queue_size=1)
+        self.status_pub = rospy.Publisher(ns + "status", String, queue_size=1, latch=True)
+
+    def _on_joints(self, msg):
+        self.joints = msg
+
+    def link_speeds(self, links, local_points):
+        """Speeds of the points, or None while the robot's description is unknown."""
+        if self.kinematics is None:
+            description = rospy.get_param(f"/{self.ros_name}/robot_description", None)
+            if description is None:
+                return None
+            self.kinematics = LinkSpeeds(description)
+        j = self.joints
+        return self.kinematics.speeds(j.name, j.position, j.velocity or [0.0] * len(j.name),
+                                      links, local_points)
+
+    def report(self, separation, s_p, scale, status, z_d=math.nan):
+        self.command.publish(Float64(scale))
+        for key, value in (("separation", separation), ("protective_separation", s_p),
+                           ("scale", scale), ("operator_uncertainty", z_d)):
+            self.out[key].publish(Float64(value))
+        self.stop_pub.publish(Bool(scale <= 0.0))
+        if status != self.status:
+            self.status = status
+            self.status_pub.publish(String(status))
+
+
+class SsmSupervisor:
+    """The supervisor's state and its cycle (see the module's docstring)."""
+
+    def __init__(self):
+        (self.p, robots, self.ground_truth, rate_hz, self.stale_s,
+         operator_topic) = read_parameters()
+        self.enabled = True
+        self.log = ThrottledLog()
+        self.operator = None
+        self.channels = {name: RobotChannel(name, self.p) for name in robots}
+        self.fixed_robots = bool(robots)
+        self.query = rospy.ServiceProxy(OPERATOR_SEPARATION_SERVICE, OperatorSeparation)
+        self.markers = rospy.Publisher("~markers", MarkerArray, queue_size=1)
+        if not self.ground_truth:
+            self._sub = rospy.Subscriber(operator_topic, PoseWithCovarianceStamped,
+                                         self._on_operator, queue_size=1)
+        rospy.Service("~set_enabled", SetBool, self._on_set_enabled)
+        rospy.loginfo("ssm_supervisor: %s, %s Hz, operator %s; T_r %.2f s, T_s %.2f s, "
+                      "C %.2f m, Z_r %.2f m, v_h %.2f m/s", robots or "every robot", rate_hz,
+                      "ground truth" if self.ground_truth else operator_topic,
+                      self.p.reaction_time_s, self.p.stopping_time_s, self.p.intrusion_m,
+                      self.p.robot_uncertainty_m, self.p.human_speed_m_s)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
+
+    def _on_operator(self, msg):
+        self.operator = msg
+
+    def _on_set_enabled(self, req):
+        self.enabled = bool(req.data)
+        rospy.loginfo("ssm_supervisor: override %s", "on" if self.enabled else "off")
+        return SetBoolResponse(success=True, message="")
+
+    def operator_input(self, now):
+        """(request, Z_d, None) or (None, None, why the operator's position is unusable)."""
+        if self.ground_truth:
+            return OperatorSeparationRequest(ground_truth=True), operator_uncertainty(self.p), None
+        msg = self.operator
+        if msg is None:
+            return None, None, "no operator estimate yet"
+        age = (now - msg.header.stamp).to_sec()
+        if age > self.stale_s:
+            return None, None, f"operator estimate stale ({age:.2f} s old)"
+        position, cov = msg.pose.pose.position, msg.pose.covariance
+        xy_cov = np.array([[cov[0], cov[1]], [cov[6], cov[7]]])
+        if not (math.isfinite(position.x) and math.isfinite(position.y)
+                and np.isfinite(xy_cov).all()):
+            return None, None, "operator estimate not finite"
+        return (OperatorSeparationRequest(ground_truth=False, x=position.x, y=position.y),
+                operator_uncertainty(self.p, xy_cov), None)
+
+    def separation(self, request):
+        """The simulator's answer, or (None, why)."""
+        try:
+            answer = self.query(request)
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            return None, f"separation query failed: {error}"
+        return (answer, None) if answer.success else (None, answer.message)
+
+    def cycle(self, _event=None):
+        now = rospy.Time.now()
+        request, z_d, fault = self.operator_input(now)
+        answer = None
+        if fault is None:
+            answer, fault = self.separation(request)
+        if answer is not None and not self.fixed_robots:
+            for name in sorted(set(answer.robot) - set(self.channels)):
+                self.channels[name] = RobotChannel(name, self.p)
+        markers = MarkerArray()
+        for index, channel in enumerate(self.channels.values()):
+            try:
+                markers.markers += self.supervise(channel, index, now, answer, z_d, fault)
+            except Exception as error:      # noqa: BLE001  a timer thread must not die: stop
+                self._fail(channel, f"supervisor error: {error!r}")
+        self.markers.publish(markers)
+
+    def supervise(self, channel, index, now, answer, z_d, fault):
+        """One robot's cycle; returns its markers."""
+        rows = [] if answer is None else [i for i, r in enumerate(answer.robot)
+                                          if r == channel.name]
+        joints = channel.joints
+        if fault is None and (joints is None
+                              or (now - joints.header.stamp).to_sec() > self.stale_s):
+            fault = "joint states missing or stale"
+        if fault is None and not rows:
+            fault = "the simulator reports no links of this robot"
+        speeds = None
+        if fault is None:
+            speeds = channel.link_speeds([answer.link[i] for i in rows],
+                                         [_xyz(answer.link_point_local[i]) for i in rows])
+            if speeds is None or not np.isfinite(speeds).all():
+                fault = "link speeds unknown (robot_description or joint states)"
+        if fault is not None:
+            return self._fail(channel, fault)
+        distances = np.array([answer.distance[i] for i in rows])
+        nearest = rows[int(np.argmin(distances))]
+        fastest = float(speeds.max())
+        channel.governor.learn_speed(fastest)
+        separation = float(distances.min())
+        scale = channel.governor.update(separation, z_d)
+        s_p = protective_separation(self.p, z_d, fastest)
+        status = "protective stop: separation %.2f m within S_p" % separation \
+            if scale <= 0.0 else "ok"
+        channel.report(separation, s_p, scale if self.enabled else 1.0, status, z_d)
+        return robot_markers(WORLD_FRAME, now, channel.name, index,
+                             _xyz(answer.operator_point[nearest]),
+                             _xyz(answer.link_point[nearest]), s_p, scale)
+
+    def _fail(self, channel, why):
+        """Fail safe: the robot stops (unless the override is off), and says why."""
+        channel.governor.stop()
+        kind = why.split(" (")[0]             # throttled per kind of fault, not per number
+        self.log.warn(f"{channel.name}:{kind}", "ssm_supervisor: %s stopped: %s",
+                      channel.name, why)
+        channel.report(math.nan, math.nan, 0.0 if self.enabled else 1.0, "stopped: " + why)
+        return []
+
+
+def _xyz(point):
+    return np.array([point.x, point.y, point.z])
+
+
+def main():
+    rospy.init_node("ssm_supervisor")
+    try:
+        SsmSupervisor()
+    except ParamError as error:
+        rospy.logfatal("ssm_supervisor: %s", error)
+        return 2
+    rospy.spin()
+    return 0

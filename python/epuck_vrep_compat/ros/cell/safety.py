@@ -1,0 +1,82 @@
+"""The cell's safety interface, for a speed-and-separation supervisor that is a plain client:
+
+- ``/<robot>/speed_scale`` (``std_msgs/Float64``, in): the override of that robot's every
+  motion (its script, joint commands from ``joint_command`` or ``/vrep``, its base), applied by
+  the simulation at the next step; 1 = full speed, 0 = a protective stop that holds the joints.
+  Values above 1 or below 0 are clamped; a non-finite value stops the robot (fail safe). Both
+  with a throttled warning.
+- ``/vrep/operator_separation`` (``epuck_vrep_compat/OperatorSeparation``): the closest points
+  between the operator's body and every link, from the simulation's collision world (the C++
+  core), for the operator where he is or stood where a tracker puts him.
+"""
+import math
+
+import rospy
+from geometry_msgs.msg import Point
+from std_msgs.msg import Float64
+
+from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
+from epuck_vrep_compat.ros.common.names import (
+    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, ros_robot_name)
+from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationResponse
+
+
+def _point(p):
+    return Point(float(p[0]), float(p[1]), float(p[2]))
+
+
+class CellSafety:
+    """The speed-scale subscribers of the cell's robots and the separation service."""
+
+    def __init__(self, sim, lock, log):
+        self.sim = sim
+        self._lock = lock
+        self._log = log
+        self._scales = {}
+        self.sync()
+        self._service = rospy.Service(OPERATOR_SEPARATION_SERVICE, OperatorSeparation,
+                                      self._on_separation)
+
+    def sync(self):
+        """A removed robot's subscriber goes, an added robot's comes."""
+        for name in [n for n in self._scales if n not in self.sim.cell.arm_by_name]:
+            self._scales.pop(name).unregister()
+        for name in [n for n in self.sim.cell.arm_by_name if n not in self._scales]:
+            self._scales[name] = rospy.Subscriber(
+                SPEED_SCALE_TOPIC.format(robot=ros_robot_name(name)), Float64, self._on_scale,
+                callback_args=name, queue_size=1)
+
+    def close(self):
+        for subscriber in self._scales.values():
+            subscriber.unregister()
+        self._service.shutdown()
+
+    def _on_scale(self, msg, name):
+        value = msg.data
+        if not math.isfinite(value):
+            self._log.warn(f"{name}:speed_scale", "/%s/speed_scale: %s is not finite; the "
+                           "robot stops (fail safe)", name, value)
+            value = 0.0
+        elif not 0.0 <= value <= 1.0:
+            self._log.warn(f"{name}:speed_scale:range", "/%s/speed_scale: %s clamped to "
+                           "[0, 1]", name, value)
+        with self._lock:
+            arm = self.sim.cell.arm_by_name.get(name)
+            if arm is not None:
+                arm.set_speed_scale(value)
+
+    def _on_separation(self, req):
+        with self._lock:
+            try:
+                links = operator_separation(self.sim.cell, req.ground_truth, req.x, req.y)
+            except (NoOperator, ValueError) as error:
+                self._log.warn("operator_separation", "%s: %s", OPERATOR_SEPARATION_SERVICE,
+                               error)
+                return OperatorSeparationResponse(success=False, message=str(error))
+            stamp = rospy.Time.from_sec(self.sim.time_s)
+        return OperatorSeparationResponse(
+            success=True, stamp=stamp, robot=[s.robot for s in links],
+            link=[s.link for s in links], distance=[s.distance_m for s in links],
+            operator_point=[_point(s.operator_point) for s in links],
+            link_point=[_point(s.link_point) for s in links],
+            link_point_local=[_point(s.link_point_local) for s in links])

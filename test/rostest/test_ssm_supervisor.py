@@ -1,0 +1,145 @@
+#!/usr/bin/python3
+"""ssm_supervisor against the simulator: the operator walks at 1.6 m/s into the IRB 140's
+workspace and out. With the supervisor on, the separation (measured by the test itself through
+/vrep/operator_separation, ground truth) never falls below C while the arm moves, the arm stops
+and resumes; with it off, the same walk comes closer. A supervisor fed by the test as a tracker
+would be stops its arm, and says why, on a non-finite or stale estimate."""
+import math
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Float64, String
+from std_srvs.srv import SetBool
+
+from epuck_vrep_compat.srv import OperatorSeparation
+from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_sim_time
+
+C_M = 0.1                    # the supervisor's default intrusion distance
+WALK_CYCLE_S = 2 * 3.2 / 1.6  # out and back along the 3.2 m path
+MOVING_RAD_S = 0.01
+
+
+class WalkMonitor:
+    """The IRB 140's separation at every step it can query, paired with its joint speeds at
+    the same simulation time."""
+
+    def __init__(self):
+        self._joints = {}
+        self._lock = threading.Lock()
+        self._sub = rospy.Subscriber("/IRB140/joint_states", JointState, self._on_joints,
+                                     queue_size=100)
+        self.query = rospy.ServiceProxy("/vrep/operator_separation", OperatorSeparation)
+
+    def _on_joints(self, msg):
+        with self._lock:
+            self._joints[msg.header.stamp.to_nsec()] = max(abs(v) for v in msg.velocity)
+
+    def watch(self, seconds):
+        """[(separation, joint speed)] over seconds of simulated time."""
+        samples, start = [], sim_time_now()
+        while sim_time_now() - start < seconds:
+            answer = self.query(ground_truth=True)
+            assert answer.success, answer.message
+            d = min(x for r, x in zip(answer.robot, answer.distance) if r == "IRB140")
+            deadline = time.monotonic() + 5
+            while time.monotonic() < deadline:
+                with self._lock:
+                    speed = self._joints.get(answer.stamp.to_nsec())
+                if speed is not None:
+                    samples.append((d, speed))
+                    break
+                time.sleep(0.005)
+            time.sleep(0.01)
+        return samples
+
+
+class SsmSupervisor(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_ssm_supervisor")
+        cls.guard = RosoutGuard()
+        rospy.wait_for_service("/vrep/operator_separation", timeout=60)
+        rospy.wait_for_service("/ssm_supervisor/set_enabled", timeout=60)
+        cls.monitor = WalkMonitor()
+        wait_sim_time(1.0)
+
+    def test_1_the_supervisor_holds_the_distance_and_off_it_comes_closer(self):
+        stops = Collector("/ssm_supervisor/IRB140/protective_stop", Bool)
+        on = self.monitor.watch(2 * WALK_CYCLE_S)
+        moving_on = [d for d, v in on if v > MOVING_RAD_S]
+        self.assertGreater(len(on), 50)
+        self.assertGreater(len(moving_on), 10)
+        rospy.loginfo("supervisor on: min separation while moving %.3f m over %d samples",
+                      min(moving_on), len(on))
+        self.assertGreaterEqual(min(moving_on), C_M)
+        # it did stop (the operator came within S_p) and it resumed (moving after a stop)
+        flags = [m.data for m in stops.messages]
+        self.assertIn(True, flags)
+        self.assertIn(False, flags[flags.index(True):])
+        rospy.ServiceProxy("/ssm_supervisor/set_enabled", SetBool)(False)
+        try:
+            off = self.monitor.watch(2 * WALK_CYCLE_S)
+        finally:
+            rospy.ServiceProxy("/ssm_supervisor/set_enabled", SetBool)(True)
+        moving_off = [d for d, v in off if v > MOVING_RAD_S]
+        rospy.loginfo("supervisor off: min separation while moving %.3f m", min(moving_off))
+        self.assertLess(min(moving_off), C_M)
+        self.assertLess(min(moving_off), min(moving_on) - 0.1)
+
+    def publish_estimate(self, pub, x, y, variance=1e-4, stamp=None):
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = "world"
+        msg.header.stamp = stamp or rospy.Time.now()
+        msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
+        msg.pose.pose.orientation.w = 1.0
+        cov = [0.0] * 36
+        cov[0] = cov[7] = variance
+        msg.pose.covariance = cov
+        pub.publish(msg)
+
+    def wait_status(self, status, text, feed=None, timeout_s=30.0):
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if feed is not None:
+                feed()
+            last = status.latest()
+            if last is not None and text in last.data:
+                return
+            time.sleep(0.05)
+        self.fail(f"status never said {text!r}; last: {status.latest()}")
+
+    def test_2_bad_tracker_input_stops_the_arm_and_says_why(self):
+        pub = rospy.Publisher("/test_tracker/pose", PoseWithCovarianceStamped, queue_size=1)
+        status = Collector("/ssm_tracked/SIX/status", String)
+        scale = Collector("/ssm_tracked/SIX/scale", Float64)
+        z_d = Collector("/ssm_tracked/SIX/operator_uncertainty", Float64)
+        far = lambda variance=1e-4: self.publish_estimate(pub, -2.0, 2.0, variance)  # noqa
+        self.wait_status(status, "ok", far)
+        self.assertGreater(scale.latest().data, 0.0)
+        self.assertAlmostEqual(z_d.latest().data, 2 * 0.01, delta=1e-9)
+        # Z_d follows the tracker's covariance: 2 sigma of a 0.3 m deviation
+        far(0.09)
+        wait_sim_time(0.3)
+        self.assertAlmostEqual(z_d.latest().data, 2 * 0.3, delta=1e-9)
+        self.publish_estimate(pub, math.nan, 2.0)
+        self.wait_status(status, "not finite", lambda: self.publish_estimate(pub, math.nan, 2.0))
+        wait_sim_time(0.3)
+        self.assertEqual(scale.latest().data, 0.0)
+        self.wait_status(status, "ok", far)
+        self.wait_status(status, "stale")                 # nothing more published
+        wait_sim_time(0.3)
+        self.assertEqual(scale.latest().data, 0.0)
+        self.assertTrue(any("SIX stopped: operator estimate stale" in w
+                            for w in self.guard.warnings))
+
+    def test_9_no_errors_logged(self):
+        self.assertEqual(self.guard.errors, [])
+
+
+if __name__ == "__main__":
+    rostest.rosrun("epuck_vrep_compat", "test_ssm_supervisor", SsmSupervisor)
