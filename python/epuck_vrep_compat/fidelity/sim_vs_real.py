@@ -34,6 +34,9 @@ def parse(argv):
     parser.add_argument("-o", "--output", default="sim_vs_real")
     parser.add_argument("--rtf", type=float, default=1.0)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--cmd-vel-scaling", default="si", choices=("si", "vrep", "epuck_driver"),
+                        help="units of the bag's cmd_vel: si (m/s, rad/s; default), or the "
+                             "V-REP script's or the e-puck driver's (a bag of driver-tuned code)")
     return parser.parse_args(argv)
 
 
@@ -47,11 +50,14 @@ def simulate(args, scenario, series, noise_path):
     """{label: Series} of the two simulated runs."""
     world = os.path.join(_share(), "worlds", scenario.world)
     runs = {"sim_fitted": [f"noise_file:={noise_path}"], "sim_ideal": ["noise_preset:=ideal"]}
+    commands = commands_of(series, scenario)
+    # the bag's commands in their units; the scenario's own drive is in m/s
+    scaling = args.cmd_vel_scaling if isinstance(commands, list) else "si"
     out = {}
     for label, launch_args in runs.items():
         bag = os.path.join(args.output, f"{label}.bag")
-        SimulatorRun(label, world, launch_args, bag).run(
-            series.duration_s, commands_of(series, scenario), args.seed, args.rtf)
+        SimulatorRun(label, world, launch_args + [f"cmd_vel_scaling:={scaling}"], bag).run(
+            series.duration_s, commands, args.seed, args.rtf)
         out[label] = read_series(bag, choose_robot(bag, "ePuck0"))
     return out
 
