@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """A /vrep client loads an IRB 140 by V-REP's model file name: it is named as V-REP names a
 copy, answers the joint services, publishes its joint states (/IRB140_0/...), appears in TF and
-in group data, takes a speed scale; simRosRemoveModel removes it and its topics."""
+in group data, takes a speed scale; simRosRemoveModel removes it and its topics; the thesis's
+[/robot] HUB, given the copy's names, publishes its handles."""
 import time
 import unittest
 
@@ -10,6 +11,8 @@ import rosgraph.masterapi
 import rostest
 import tf2_ros
 from sensor_msgs.msg import JointState
+
+from epuck_vrep_compat.msg import IrbMsg
 
 from sim_test_helpers import RosoutGuard, call, handle, wait_sim_time
 
@@ -72,6 +75,25 @@ class CellModels(unittest.TestCase):
             self.assertEqual(handle(base), res.baseHandle)
             self.assertGreater(call("simRosRemoveModel", handle=res.baseHandle).result, 1)
         self.assertEqual(call("simRosLoadModel", fileName="no_such_robot.ttm").result, -1)
+
+    def test_3_the_hub_finds_a_loaded_irb140_by_the_names_given(self):
+        # cell_models.test starts [/robot] with ~irb_robot IRB140#0 and the copy's six joints
+        res = call("simRosLoadModel", fileName="ABB IRB 140.ttm")
+        self.assertGreater(res.result, 0)
+        expected = [handle(f"IRB140_joint{k}#0") for k in range(1, 7)]
+        self.assertNotIn(-1, expected)
+        latest = []
+        sub = rospy.Subscriber("/IrbHandles", IrbMsg, latest.append, queue_size=10)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and not (
+                latest and latest[-1].hIrbRobot == res.baseHandle
+                and list(latest[-1].hIrbJoint) == expected):
+            time.sleep(0.1)
+        sub.unregister()
+        self.assertTrue(latest, "no /IrbHandles from [/robot]")
+        self.assertEqual((latest[-1].hIrbRobot, list(latest[-1].hIrbJoint)),
+                         (res.baseHandle, expected))
+        self.assertGreater(call("simRosRemoveModel", handle=res.baseHandle).result, 1)
 
     def test_9_no_errors_logged(self):
         self.assertEqual(self.guard.errors, [])
