@@ -15,6 +15,9 @@ e-pucks it fills one row per robot (rows as ``sim.robot_names``):
   black 0; the real sensor's reflected infrared, calibrated to that span);
 * ``mic`` (N, M): the configured sound level of each microphone (no acoustics are simulated).
 
+Only the readings asked for (``readings``, the profile's extra topics) are computed; the others
+stay empty (the e-puck 1 driver publishes the floor and microphones only).
+
 The magnetometer's noise is counter-based: each draw is a hash of (seed, robot number, frame,
 axis) turned normal by Box–Muller, vectorised over the swarm; so a robot's noise depends on
 nothing but its own number and the frame, the same seed gives the same run, and another robot
@@ -34,6 +37,7 @@ from epuck_vrep_compat.sim.extension import SimulationExtension
 # sensors in a row across the front, under the body
 GROUND_SENSORS_M = np.array([[0.030, 0.010], [0.030, 0.0], [0.030, -0.010]])
 _MAG_STREAM = 0x6d6167           # "mag": the magnetometer's noise stream per robot
+READINGS = frozenset(("dist_sens", "mag_field", "battery", "floor", "microphone"))
 
 
 @dataclass
@@ -76,15 +80,18 @@ class Epuck2Sensors(SimulationExtension):
     """Computes the e-puck2's extra readings of every robot after each step."""
 
     def __init__(self, sim, settings: Epuck2Settings, floor_regions=(),
-                 floor_base_rgb=(0.85, 0.85, 0.8)):
+                 floor_base_rgb=(0.85, 0.85, 0.8), readings=READINGS):
         self.sim = sim
         self.settings = settings
+        self.readings = READINGS & frozenset(readings)
         self._regions = list(floor_regions)
         self._floor_base = np.asarray(floor_base_rgb, dtype=float)
         s = settings
-        self._tof = TofSensorArray(np.asarray(s.tof_mount_m), s.tof_pitch_rad,
-                                   stddev_m=s.tof_stddev_m, stddev_rel=s.tof_stddev_rel,
-                                   seed=sim.seed)
+        self._tof = None
+        if "dist_sens" in self.readings:
+            self._tof = TofSensorArray(np.asarray(s.tof_mount_m), s.tof_pitch_rad,
+                                       stddev_m=s.tof_stddev_m, stddev_rel=s.tof_stddev_rel,
+                                       seed=sim.seed)
         self._born_s = {}            # robot name -> simulated time it appeared (or reset)
         self.tof_m = np.zeros(0)
         self.mag_tesla = np.zeros((0, 3))
@@ -94,23 +101,31 @@ class Epuck2Sensors(SimulationExtension):
         self.step(0.0)
 
     def step(self, dt: float) -> None:
-        sim, s = self.sim, self.settings
+        sim, s, wanted = self.sim, self.settings, self.readings
         swarm = sim.swarm
         poses = np.asarray(swarm.poses, dtype=float).reshape(-1, 3)
-        id_array = np.asarray(swarm.stream_ids, dtype=np.uint64)
-        ids = id_array.tolist()
         noise = sim.noise.enabled
-        self.tof_m = self._tof.read(sim.world, poses, [int(h) for h in swarm.handles], ids,
-                                    noise)
+        if self._tof is not None:
+            self.tof_m = self._tof.read(sim.world, poses, [int(h) for h in swarm.handles],
+                                        list(swarm.stream_ids), noise)
         c, sn = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+        if "mag_field" in wanted:
+            self.mag_tesla = self._magnetometer(c, sn, noise)
+        if "battery" in wanted:
+            self.battery_v = self._battery(sim.robot_names, sim.time_s)
+        if "floor" in wanted:
+            self.floor = self._floor(poses, c, sn)
+        if "microphone" in wanted:
+            self.mic = np.tile(np.asarray(s.mic_levels, dtype=np.int64), (len(poses), 1))
+
+    def _magnetometer(self, c, sn, noise):
+        s = self.settings
         bx, by, bz = s.mag_world_tesla
         mag = np.stack((c * bx + sn * by, -sn * bx + c * by, np.full_like(c, bz)), axis=1)
         if noise and s.mag_stddev_tesla > 0.0:
-            mag += s.mag_stddev_tesla * hashed_normals(self.sim.seed, id_array, sim.frame, 3)
-        self.mag_tesla = mag
-        self.battery_v = self._battery(sim.robot_names, sim.time_s)
-        self.floor = self._floor(poses, c, sn)
-        self.mic = np.tile(np.asarray(s.mic_levels, dtype=np.int64), (len(ids), 1))
+            ids = np.asarray(self.sim.swarm.stream_ids, dtype=np.uint64)
+            mag += s.mag_stddev_tesla * hashed_normals(self.sim.seed, ids, self.sim.frame, 3)
+        return mag
 
     def _battery(self, names, now_s):
         s = self.settings
@@ -131,6 +146,7 @@ class Epuck2Sensors(SimulationExtension):
         self._born_s = {n: t for n, t in self._born_s.items() if n in names}
 
     def reset(self) -> None:
-        self._tof.reseed(self.sim.seed)
+        if self._tof is not None:
+            self._tof.reseed(self.sim.seed)
         self._born_s.clear()
         self.step(0.0)

@@ -84,7 +84,7 @@ class SimulatorNode:
         self.extras = None
         if profile.extras:                   # the drivers' extra sensors, after the swarm's
             sensors = Epuck2Sensors(self.sim, params.extras, scene.floor_regions,
-                                    scene.arena.floor_color)
+                                    scene.arena.floor_color, readings=profile.extras)
             self.sim.add_extension(sensors)
             self.extras = ExtrasFace(profile, self.sim, sensors, params.accel_sign)
         models = ModelLibrary(models_dir) if models_dir else None
