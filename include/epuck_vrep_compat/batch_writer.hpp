@@ -49,7 +49,8 @@ class BatchWriter {
 
   /// Starts writing to socket descriptor fd, duplicated when own (else borrowed); returns the
   /// connection's id (ids are never reused). Throws std::system_error when the descriptor
-  /// cannot be duplicated (EMFILE past the descriptor limit).
+  /// cannot be duplicated (EMFILE past the descriptor limit) or is negative (EBADF: a socket
+  /// closed before it was handed over), duplicated or borrowed.
   int open(int fd, bool own = true);
   /// Forgets a connection: its backlog goes, its duplicate descriptor is closed.
   void close(int id);

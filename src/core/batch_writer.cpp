@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <climits>
-#include <stdexcept>
 #include <system_error>
 
 namespace evc {
@@ -33,6 +32,10 @@ BatchWriter::~BatchWriter() {
 
 int BatchWriter::open(int fd, bool own) {
   std::lock_guard<std::mutex> lock(state_mutex_);
+  if (fd < 0 && !own) {  // fcntl reports it when duplicating; a borrowed one is checked here
+    throw std::system_error(EBADF, std::generic_category(),
+                            "negative descriptor (a closed socket)");
+  }
   const int writer_fd = own ? ::fcntl(fd, F_DUPFD_CLOEXEC, 0) : fd;
   if (writer_fd < 0) throw std::system_error(errno, std::generic_category(), "dup of a socket");
   const int id = next_id_++;  // never reused, unlike descriptors: a late report stays its own

@@ -166,3 +166,11 @@ def test_a_descriptor_that_cannot_be_duplicated_is_an_os_error(pair):
     assert writer.flush() == [(borrowed, 44, 0, False)]
     writer.close(borrowed)                       # borrowed: the caller's descriptor stays open
     sender.send(b"")
+
+
+def test_a_closed_sockets_descriptor_is_refused_borrowed_too():
+    writer = _core.BatchWriter(1 << 20)
+    with pytest.raises(OSError) as bad:
+        writer.open(-1, own=False)           # a closed socket's fileno()
+    assert bad.value.errno == errno.EBADF
+    assert writer.connection_count == 0

@@ -152,3 +152,26 @@ def test_rospys_close_takes_the_connection_out_of_the_writer_first(pair):
     batch.flush()
     batch.settle()
     assert read_all(reader) == b""
+
+
+@pytest.mark.parametrize("background", [False, True])
+def test_a_connection_closed_before_its_first_flush_is_dropped_and_the_batch_goes_on(background):
+    # rospy closed the socket (fileno() -1) before the batch ever took the connection over,
+    # as a subscriber that connects and leaves at once; the simulator must not fail
+    gone_writer, gone_reader = socket.socketpair()
+    gone_writer.close()
+    gone_reader.close()
+    writer, reader = socket.socketpair()
+    gone, alive = FakeConnection(gone_writer), FakeConnection(writer)
+    impl = FakeImpl(gone)
+    impl.connections.append(alive)
+    pub = FakePublisher(impl)
+    batch = StepBatch(background=background)
+    batch.add_frame(pub, message(7, 100))
+    batch.flush()
+    batch.settle()
+    assert impl.connections == [alive]
+    assert frames(read_all(reader)) == [7]
+    assert batch._writer.connection_count == 1
+    writer.close()
+    reader.close()

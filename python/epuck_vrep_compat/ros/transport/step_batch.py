@@ -175,13 +175,20 @@ class StepBatch:
     def _open(self, impl, connection):
         """The writer's entry for a connection seen for the first time (None: it is gone)."""
         sock = connection.socket
-        if sock is None or connection.done:
+        fd = -1 if sock is None else sock.fileno()       # -1: closed meanwhile
+        if fd < 0 or connection.done:
             impl.remove_connection(connection)
             return None
-        writer_id = self._writer.open(sock.fileno(), own=False)
+        writer_id = self._writer.open(fd, own=False)
         _close_through(self._writer, writer_id, connection)
         entry = self._ids[connection] = (writer_id, impl)
         self._by_id[writer_id] = connection
+        if connection.done or connection.socket is not sock:
+            # rospy closed it between the check and _close_through (its own close, not ours):
+            # the descriptor may be reused, so the writer lets it go before anything is queued
+            self._forget(connection)
+            impl.remove_connection(connection)
+            return None
         return entry
 
     def _forget(self, connection):
