@@ -1,0 +1,137 @@
+#!/usr/bin/python3
+"""Every topic of a simulator that runs flat out, subscribed by one client at once.
+
+rospy's TCPROS server queues 5 connections not yet accepted, and accepts from one Python
+thread that a simulator running flat out leaves little time: a client opening one connection
+per topic at once (roscpp's ``rosbag record -a`` or a benchmark's subscriber) overflowed that
+queue, and the simulator did not see about a third of them (the client's side counted them as
+open) for as long as TCP kept retrying. The simulator widens the queue
+(``ros/transport/accept_queue.py``). Here a client speaks TCPROS itself so that its connections
+arrive together, as roscpp's do: every one must reach the simulator and deliver.
+"""
+import select
+import socket
+import struct
+import time
+import unittest
+import xmlrpc.client
+
+import rosgraph.masterapi
+import rospy
+import rostest
+from rosgraph_msgs.msg import Clock
+
+from sim_test_helpers import PKG, simulator_topics, wait_for_message
+
+N = 10
+TIMEOUT_S = 30.0     # liveness only: with the queue widened every one connects within a second
+PER_STEP = [f"proximity{k}" for k in range(8)] + ["imu", "ground_truth"]
+CALLER_ID = "/test_subscribe_everything_raw"
+
+
+def tcpros_header(fields):
+    body = b"".join(struct.pack("<I", len(f)) + f for f in
+                    (f"{k}={v}".encode() for k, v in fields.items()))
+    return struct.pack("<I", len(body)) + body
+
+
+class RawSubscriber:
+    """One TCPROS subscription on a non-blocking socket: its header sent, its bytes counted."""
+
+    def __init__(self, topic, address):
+        self.topic = topic
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        self.sock.setblocking(False)
+        self.sock.connect_ex(address)           # in flight: every connection at once
+        self.header = tcpros_header({"callerid": CALLER_ID, "topic": topic, "md5sum": "*",
+                                     "type": "*", "tcp_nodelay": "1"})
+        self.buffer = b""
+        self.messages = 0
+        self.sent = False
+
+    def send_header(self):
+        try:
+            self.sock.sendall(self.header)
+            self.sent = True
+        except BlockingIOError:
+            pass
+
+    def read(self):
+        """Take what arrived; count whole messages after the publisher's header."""
+        try:
+            data = self.sock.recv(1 << 16)
+        except BlockingIOError:
+            return
+        self.buffer += data
+        while len(self.buffer) >= 4:
+            size = struct.unpack("<I", self.buffer[:4])[0]
+            if len(self.buffer) < 4 + size:
+                break
+            self.buffer = self.buffer[4 + size:]
+            self.messages += 1                  # the first frame is the publisher's header
+
+
+class SubscribeEverything(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("test_subscribe_everything")
+        wait_for_message("/clock", Clock, timeout_s=120.0)
+        published, _subscribed, _types = simulator_topics()
+        cls.topics = sorted(published - {"/rosout"})
+        cls.sim_uri = rosgraph.masterapi.Master(rospy.get_name()).lookupNode("/vrep")
+        code, msg, protocol = xmlrpc.client.ServerProxy(cls.sim_uri).requestTopic(
+            CALLER_ID, cls.topics[0], [["TCPROS"]])
+        assert code == 1, msg
+        address = (protocol[1], protocol[2])     # one TCPROS server serves every topic
+        cls.subs = {t: RawSubscriber(t, address) for t in cls.topics}
+        deadline = time.monotonic() + TIMEOUT_S
+        while time.monotonic() < deadline:
+            pending = [s for s in cls.subs.values() if not s.sent]
+            if not pending:
+                break
+            _r, writable, _x = select.select([], [s.sock for s in pending], [], 0.2)
+            for sub in pending:
+                if sub.sock in writable:
+                    sub.send_header()
+
+    @classmethod
+    def tearDownClass(cls):
+        for sub in cls.subs.values():
+            sub.sock.close()
+
+    def pump(self, until, timeout_s=TIMEOUT_S):
+        """Read every socket until ``until()`` holds or the time is up."""
+        deadline = time.monotonic() + timeout_s
+        while not until() and time.monotonic() < deadline:
+            readable, _w, _x = select.select([s.sock for s in self.subs.values()], [], [], 0.1)
+            for sub in self.subs.values():
+                if sub.sock in readable:
+                    sub.read()
+
+    def missing_at_the_simulator(self):
+        _code, _msg, bus = xmlrpc.client.ServerProxy(self.sim_uri).getBusInfo(CALLER_ID)
+        connected = {c[4] for c in bus if c[1] == CALLER_ID}
+        return [t for t in self.topics if t not in connected]
+
+    def test_1_the_simulator_accepts_every_connection(self):
+        self.assertGreater(len(self.topics), N * 13)
+        self.assertEqual([t for t, s in self.subs.items() if not s.sent], [])
+        missing = self.missing_at_the_simulator()
+        deadline = time.monotonic() + TIMEOUT_S
+        while missing and time.monotonic() < deadline:
+            self.pump(lambda: False, timeout_s=0.5)   # keep reading: nothing backs up
+            missing = self.missing_at_the_simulator()
+        self.assertEqual(missing, [], f"{len(missing)} of {len(self.topics)} connections never "
+                                      "reached the simulator")
+
+    def test_2_every_per_step_topic_delivers(self):
+        per_step = [f"/ePuck{i}/{r}" for i in range(N) for r in PER_STEP] + ["/tf", "/clock"]
+        self.assertEqual([t for t in per_step if t not in self.subs], [])
+        silent = lambda: [t for t in per_step if self.subs[t].messages < 2]  # header + one
+        self.pump(lambda: not silent())
+        self.assertEqual(silent(), [], f"{len(silent())} of {len(per_step)} per-step topics "
+                                       "delivered nothing")
+
+
+if __name__ == "__main__":
+    rostest.rosrun(PKG, "subscribe_everything", SubscribeEverything)
