@@ -18,7 +18,9 @@ ratios compare ours with Enki C++ at the same 50 ms step. With ``--floor``, the 
 of (b): a bare roscpp process (``build/floor_sender``) advertising the same topics and publishing
 the same messages flat out, with no simulation, to the same ``subscribe_all`` (roscpp writes
 each message on its own; our writer coalesces a topic's messages, so it may beat this "floor").
-Messages per second are counted over the measured window, once every subscription connected.
+Messages per second are counted over the measured window, which starts once the simulator
+lists a connection of the subscriber on every subscribed topic (``getBusInfo``; recorded as
+``connected_topics`` of ``subscribed_topics``).
 The rows are profile ``vrep``'s; ``--epuck2-robots`` adds rows of profile ``epuck2_driver``
 (its extra sensors: time-of-flight ray, magnetometer, battery, ground sensors, microphones,
 their topics), by default at N = 100. Commands are SI (``cmd_vel_scaling:=si``) in both, so
@@ -40,6 +42,7 @@ import sys
 import tempfile
 import threading
 import time
+import xmlrpc.client
 
 import rosgraph
 import rospy
@@ -52,6 +55,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CELL_SIDE_M = 0.30
 ARENA_MARGIN_M = 0.10
 SIM_NODE = "/vrep"
+CONNECT_TIMEOUT_S = 60.0   # plus N / 10 s: how long (b) waits for every subscription to connect
 # per profile: each robot's cmd_vel, the subscriber's regex, a robot's topics (index captured)
 PROFILE_TOPICS = {"vrep": ("/ePuck{i}/cmd_vel", r"^/(ePuck\d+/.*|tf)$", r"^/ePuck(\d+)/"),
                   "epuck2_driver": ("/epuck_robot_{i}/mobile_base/cmd_vel",
@@ -121,6 +125,30 @@ def watch_registration(n, profile, started_at, result, timeout_s=600.0):
         time.sleep(0.05)
 
 
+def subscriber_connections(node, regex):
+    """(topics of ``node`` matching ``regex`` that the subscriber holds a connection to, all
+    such topics), as ``node`` itself lists them (``getBusInfo``): a connection the subscriber
+    opened but the publisher never accepted does not count."""
+    master = rosgraph.Master("/bench_connection_watch")
+    pattern = re.compile(regex)
+    publishers, _subscribers, _services = master.getSystemState()
+    expected = {t for t, nodes in publishers if node in nodes and pattern.match(t)}
+    _code, _msg, bus = xmlrpc.client.ServerProxy(master.lookupNode(node)).getBusInfo(
+        "/bench_connection_watch")
+    connected = {c[4] for c in bus if c[1].startswith("/subscribe_all") and c[4] in expected}
+    return len(connected), len(expected)
+
+
+def wait_connected(node, regex, timeout_s):
+    """Wait until the subscriber holds every topic; the last (connected, expected) counts."""
+    deadline = time.monotonic() + timeout_s
+    counts = subscriber_connections(node, regex)
+    while counts[0] < counts[1] and time.monotonic() < deadline:
+        time.sleep(0.5)
+        counts = subscriber_connections(node, regex)
+    return counts
+
+
 def run_ours(n, measure_s, subscribe, cell_m, profile="vrep"):
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
@@ -159,7 +187,9 @@ def run_ours(n, measure_s, subscribe, cell_m, profile="vrep"):
                                     "--regex", regex], env=env,
                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
         time.sleep(5.0 + n / 50.0)       # connections (latched commands, subscriber) settle
-        if sub is not None:
+        connected = None
+        if sub is not None:   # measure only once the simulator accepted every subscription
+            connected = wait_connected(SIM_NODE, regex, CONNECT_TIMEOUT_S + n / 10.0)
             sub.send_signal(signal.SIGUSR1)   # the subscriber counts this window only
         rtf = clock.rtf_over(measure_s)
         result = {"sim": "epuck_vrep_compat", "profile": profile, "robots": n, "step_s": 0.05,
@@ -169,6 +199,8 @@ def run_ours(n, measure_s, subscribe, cell_m, profile="vrep"):
                   "topics_s": registration.get("topics_s")}
         if result["topics_s"] is not None:
             result["startup_s"] = max(result["first_step_s"], result["topics_s"])
+        if connected is not None:
+            result["connected_topics"], result["subscribed_topics"] = connected
         if sub is not None:
             sub.send_signal(2)
             try:
