@@ -2,7 +2,8 @@
 
 Unlike the V-REP script (frame id ``"a"``, bottom row first, ``is_bigendian`` 1) the image is
 top row first, frame ``<robot>/camera_optical``, with a latched ``camera_info`` beside it.
-The image publisher has a queue of 1: a slow viewer drops frames instead of stalling the step.
+Images go out with the step's other messages through the step batch (the core's writer, off the
+interpreter): a slow viewer gets a backlog, then loses whole batches, instead of stalling the step.
 A step looks only at the cameras someone subscribes to (recounted on subscribe events), so a
 thousand unwatched cameras cost nothing per step.
 :meth:`CameraFace.sync` follows robots added to and removed from the simulation.
@@ -14,6 +15,7 @@ from sensor_msgs.msg import CameraInfo, Image
 from epuck_vrep_compat.ros.epuck import names
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info, fill_image
+from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 
 class _Watch(rospy.SubscribeListener):
@@ -70,7 +72,7 @@ class CameraFace(Face):
             if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
                 continue
             camera.next_due_s = now + self._period_s
-            camera.image.publish(camera.render(step.secs, step.nsecs))
+            step.batch.add(camera.image, camera.render(step.secs, step.nsecs))
 
 
 class _Camera:
@@ -81,8 +83,8 @@ class _Camera:
         self.frame = profile.frame(name, names.CAMERA_FRAME)
         self.next_due_s = 0.0
         self.gray = False
-        self.image = rospy.Publisher(profile.topic(name, "camera"), Image, queue_size=1,
-                                     subscriber_listener=watch)
+        self.image = synchronous_publisher(profile.topic(name, "camera"), Image,
+                                           subscriber_listener=watch)
         self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
                                     queue_size=1, latch=True)
         self.info.publish(camera_info(spec.width, spec.height, spec.vertical_fov_rad,
