@@ -25,9 +25,11 @@
 /// Broadphase. Each upright cylinder keeps a list of what the Bullet broadphase finds within a
 /// margin of it, built for all bodies in one batch and rebuilt only once some body has moved
 /// half the margin since (until then no unlisted pair can have closed the gap). The world
-/// learns the moved poses at each rebuild, before each Bullet query and at the end.
+/// learns the moved poses at each rebuild, before each Bullet query and at the end. A
+/// ContactCache carries the lists from one call to the next.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "epuck_vrep_compat/collision_world.hpp"
@@ -47,10 +49,35 @@ struct ContactSettings {
   double slop_m = 1e-6;       ///< extra push, so a resolved contact does not reappear by rounding
 };
 
+/// The neighbour lists of one resolve_penetrations call, handed to the next. They are taken
+/// over while they still hold: the same bodies (handles, in order) as upright cylinders of the
+/// same radius and heights, nothing else changed the world since (CollisionWorld::revision),
+/// and no body has drifted half the margin since they were built (the same rule as within a
+/// call). Otherwise they are rebuilt, so a cache changes how soon the answer comes, never the
+/// answer. A stepper that moves the same robots every step keeps one.
+class ContactCache {
+ public:
+  ContactCache();
+  ~ContactCache();
+  ContactCache(ContactCache&&) noexcept;
+  ContactCache& operator=(ContactCache&&) noexcept;
+  /// Forgets the lists: the next call rebuilds them.
+  void clear();
+
+  struct State;  // defined where it is used
+
+ private:
+  friend double resolve_penetrations(CollisionWorld&, std::vector<MovableBody>&,
+                                     const ContactSettings&, ContactCache*);
+  std::unique_ptr<State> state_;
+};
+
 /// Resolves penetrations of @p bodies: places each at its given pose in @p world first, and
 /// leaves the resolved poses in both. Throws UnknownHandle for a body the world lacks.
-/// Returns the deepest penetration found by the last pass, metres.
+/// Returns the deepest penetration found by the last pass, metres. With @p cache, the
+/// neighbour lists of the previous call with the same cache are reused when they still hold.
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
-                            const ContactSettings& settings = ContactSettings());
+                            const ContactSettings& settings = ContactSettings(),
+                            ContactCache* cache = nullptr);
 
 }  // namespace evc

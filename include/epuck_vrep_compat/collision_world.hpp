@@ -12,6 +12,7 @@
 /// while they do.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -141,6 +142,12 @@ class CollisionWorld {
   /// Lets Bullet rebalance its broadphase tree after many objects moved; call once per step.
   void maintain_broadphase();
 
+  /// Counts the changes to the world's geometry: every add, remove and move (colours and the
+  /// background do not count). Whoever keeps something derived from the geometry across calls
+  /// (resolve_penetrations' neighbour lists, the swarm's sensor candidates) compares it with
+  /// the count it saw last, to know that nobody else changed the world since.
+  std::uint64_t revision() const { return revision_; }
+
  private:
   void add_body(std::unique_ptr<Body> body, const Pose& pose);
   Body& find(int handle) const;
@@ -152,6 +159,7 @@ class CollisionWorld {
   std::unique_ptr<btCollisionWorld> world_;
   std::unordered_map<int, std::unique_ptr<Body>> bodies_;
   Vec3 background_rgb_{0.55, 0.6, 0.65};
+  std::uint64_t revision_ = 0;
 };
 
 }  // namespace evc

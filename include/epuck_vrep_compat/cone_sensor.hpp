@@ -40,6 +40,7 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "epuck_vrep_compat/types.hpp"
@@ -78,10 +79,38 @@ struct ConeReading {
   Vec3 normal = Vec3::Zero();       ///< its outward surface normal, sensor frame (zero for none)
 };
 
-/// Reads one cone against candidate bodies (those a box query around the robot found); only
-/// candidates whose bounding spheres reach into the cone are ray-tested.
-/// @p sensor_pose is the sensor frame in the world; @p directions come from cone_ray_directions.
-ConeReading read_cone(const std::vector<const Body*>& candidates, const Pose& sensor_pose,
-                      const ConeSensor& sensor, const std::vector<Vec3>& directions);
+/// A body a cone may see, with a sphere about its origin that encloses it (radius rounded up):
+/// computed once per robot, then culled against each of its cones.
+struct ConeCandidate {
+  const Body* body = nullptr;
+  Vec3 centre_m = Vec3::Zero();  ///< the body's origin, world frame
+  double radius_m = 0.0;
+};
+
+/// @p body as a candidate, where it is now.
+ConeCandidate cone_candidate(const Body& body);
+
+/// Reads cones. It keeps its working lists from one read to the next, so that reading
+/// allocates nothing; one reader per thread.
+class ConeReader {
+ public:
+  ConeReader();
+  ~ConeReader();
+  ConeReader(ConeReader&&) noexcept;
+  ConeReader& operator=(ConeReader&&) noexcept;
+
+  /// Reads one cone against candidate bodies (what lies around the robot, in handle order);
+  /// only candidates whose bounding spheres reach into the cone are ray-tested. Candidates
+  /// that cannot be seen change nothing: the reading is the shortest hit over the rays, the
+  /// earliest ray on a tie. @p sensor_pose is the sensor frame in the world; @p directions
+  /// come from cone_ray_directions.
+  ConeReading read(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
+                   const ConeSensor& sensor, const std::vector<Vec3>& directions);
+
+  struct Scratch;  // defined where it is used
+
+ private:
+  std::unique_ptr<Scratch> scratch_;
+};
 
 }  // namespace evc

@@ -20,7 +20,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "epuck_vrep_compat/body_contacts.hpp"
 #include "epuck_vrep_compat/collision_world.hpp"
+#include "epuck_vrep_compat/cone_sensor.hpp"
 #include "epuck_vrep_compat/diff_drive.hpp"
 #include "epuck_vrep_compat/epuck_model.hpp"
 #include "epuck_vrep_compat/range_noise.hpp"
@@ -151,7 +153,9 @@ class EpuckSwarm {
   Pose body_pose(const Pose2& pose) const;
   void move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s);
   void read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
-  void read_proximity(Robot& robot, std::vector<const Body*>& candidates);
+  using NearbyIterator = std::vector<const Body*>::const_iterator;
+  void find_nearby(bool world_changed);
+  void read_proximity(Robot& robot, NearbyIterator begin, NearbyIterator end);
   template <typename Get>
   RowMatrixXd per_robot(int columns, Get get) const;
   template <typename Get>
@@ -168,6 +172,15 @@ class EpuckSwarm {
   std::vector<Robot> robots_;
   std::uint64_t next_stream_ = 0;  // stream id of the next robot added
   std::int64_t frame_ = 0;
+  ContactCache contact_cache_;     // the contact neighbour lists, from one step to the next
+  ConeReader cone_reader_;
+  // What each robot's cones may see (find_nearby), kept from one step to the next.
+  bool nearby_valid_ = false;      // a step completed, leaving the world at revision_seen_
+  std::uint64_t revision_seen_ = 0;
+  std::vector<std::size_t> nearby_first_;  // robot i's: nearby_[first[i], first[i + 1])
+  std::vector<const Body*> nearby_;
+  std::vector<Eigen::Vector2d> nearby_anchor_m_;  // each robot's x, y when they were found
+  std::vector<ConeCandidate> candidates_;          // scratch: one robot's, for its cones
 };
 
 }  // namespace evc

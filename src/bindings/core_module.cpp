@@ -124,6 +124,8 @@ void bind_world(py::module_& m) {
           "set_background",
           [](CollisionWorld& w, const VectorRef& rgb) { w.set_background(vec3(rgb, "rgb")); },
           "rgb"_a, "Colour where a camera ray hits nothing.")
+      .def_property_readonly("revision", &CollisionWorld::revision,
+                             "Changes to the geometry so far (adds, removes, moves).")
       .def(
           "ray_cast",
           [](const CollisionWorld& w, const MatrixRef& origins, const MatrixRef& directions,

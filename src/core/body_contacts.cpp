@@ -16,7 +16,7 @@ namespace {
 constexpr double kUprightTolerance = 1e-9;
 // Neighbour lists hold what lies within this gap of a body, so they stay valid until some
 // body has moved half of it; larger means fewer rebuilds and longer lists.
-constexpr double kNeighbourMargin_m = 0.06;
+constexpr double kNeighbourMargin_m = 0.03;
 
 // The prism a body is in the ground plane, when it is one: an upright cylinder or box.
 struct PlanarShape {
@@ -94,34 +94,82 @@ struct Touch {
   long other;
 };
 
+struct Neighbour {
+  const Body* body;
+  long listed;  // index of a listed body, whose shape moves with it; -1 if it stays put
+};
+
+}  // namespace
+
+// The neighbour lists and what they were built for; kept in a ContactCache between calls.
+struct ContactCache::State {
+  bool valid = false;                              // a call completed with these lists
+  std::uint64_t revision = 0;                      // the world's, as that call left it
+  std::vector<int> handles;                        // per listed body
+  std::unordered_map<int, std::size_t> index_of;   // handle -> listed body (lookups only)
+  std::vector<const Body*> self;                   // per listed body
+  std::vector<UprightCircle> circles;              // per listed body, at the rebuild
+  std::vector<Eigen::Vector2d> anchor_m;           // per listed body: where, at the rebuild
+  std::vector<Neighbour> neighbours;               // body i's: [first[i], first[i + 1])
+  std::vector<std::size_t> first;
+};
+
+ContactCache::ContactCache() : state_(std::make_unique<State>()) {}
+ContactCache::~ContactCache() = default;
+ContactCache::ContactCache(ContactCache&&) noexcept = default;
+ContactCache& ContactCache::operator=(ContactCache&&) noexcept = default;
+void ContactCache::clear() { state_->valid = false; }
+
+namespace {
+
 // Finds the contacts of the listed bodies and moves them. Poses live in the MovableBody list
 // while passes run; the world learns them before anything reads it (a rebuild of the
-// neighbour lists, a Bullet query) and at the end.
+// neighbour lists, a Bullet query) and at the end. The neighbour lists of the last call are
+// taken over when they still hold (see ContactCache), else rebuilt.
 class ContactFinder {
  public:
-  ContactFinder(CollisionWorld& world, std::vector<MovableBody>& bodies)
-      : world_(world), bodies_(bodies), self_(bodies.size(), nullptr), shape_(bodies.size()),
-        drift_m_(bodies.size(), Eigen::Vector2d::Zero()), dirty_(bodies.size(), 0) {
-    if (bodies.empty()) return;
-    Vec3 lowest = bodies.front().pose.position_m, highest = lowest;
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      const MovableBody& body = bodies[i];
-      index_of_.emplace(body.handle, i);
+  using State = ContactCache::State;
+
+  ContactFinder(CollisionWorld& world, std::vector<MovableBody>& bodies, State& state)
+      : world_(world), bodies_(bodies), state_(state), shape_(bodies.size()),
+        dirty_(bodies.size(), 0) {
+    bool same_world = state_.valid && state_.revision == world.revision() &&
+                      state_.handles.size() == bodies.size();
+    for (std::size_t i = 0; same_world && i < bodies.size(); ++i) {
+      same_world = state_.handles[i] == bodies[i].handle;
+    }
+    state_.valid = false;  // until this call completes
+    for (const MovableBody& body : bodies) {
       world.set_pose(body.handle, body.pose);  // UnknownHandle for a body the world lacks
-      lowest = lowest.cwiseMin(body.pose.position_m);
-      highest = highest.cwiseMax(body.pose.position_m);
     }
-    // The bodies' boxes hold their centres: one query finds them all.
-    found_.clear();
-    world.overlap_query(lowest, highest, kGroupAll, -1, found_);
-    for (const Body* candidate : found_) {
-      const long i = listed_index(candidate->handle);
-      if (i >= 0) self_[i] = candidate;
+    if (!same_world) {
+      state_.handles.clear();
+      state_.index_of.clear();
+      state_.self.clear();
+      for (std::size_t i = 0; i < bodies.size(); ++i) {
+        state_.handles.push_back(bodies[i].handle);
+        state_.index_of.emplace(bodies[i].handle, i);
+        state_.self.push_back(&world.body(bodies[i].handle));
+      }
     }
+    bool reusable = same_world && state_.circles.size() == bodies.size();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
-      if (self_[i] != nullptr) shape_[i] = planar_shape(*self_[i]);
+      shape_[i] = planar_shape(*state_.self[i]);
+      reusable = reusable && shape_[i].kind == PlanarShape::Kind::kCircle &&
+                 same_circle(shape_[i].circle, state_.circles[i]);
     }
-    rebuild_neighbours();
+    if (!reusable) {
+      rebuild_neighbours();
+      return;
+    }
+    for (std::size_t i = 0; i < bodies.size(); ++i) note_drift(i);
+  }
+
+  // After the last move: the lists hold for the next call until something changes the world.
+  void finish() {
+    sync();
+    state_.revision = world_.revision();
+    state_.valid = true;
   }
 
   // Penetrating contacts of body i, in handle order (as CollisionWorld::contacts gives them).
@@ -136,8 +184,8 @@ class ContactFinder {
     }
     const UprightCircle self = shape_now(i).circle;
     bool needs_bullet = false;
-    for (std::size_t k = first_[i]; k < first_[i + 1]; ++k) {
-      const Neighbour& neighbour = neighbours_[k];
+    for (std::size_t k = state_.first[i]; k < state_.first[i + 1]; ++k) {
+      const Neighbour& neighbour = state_.neighbours[k];
       const bool listed = neighbour.listed >= 0;
       PlanarShape fixed;  // a body that stays put: where it is
       if (!listed) fixed = planar_shape(*neighbour.body);
@@ -165,8 +213,7 @@ class ContactFinder {
   void translate(std::size_t i, const Eigen::Vector2d& move) {
     bodies_[i].pose.position_m.x() += move.x();
     bodies_[i].pose.position_m.y() += move.y();
-    drift_m_[i] += move;
-    max_drift_squared_ = std::max(max_drift_squared_, drift_m_[i].squaredNorm());
+    note_drift(i);
     if (!dirty_[i]) {
       dirty_[i] = 1;
       moved_.push_back(i);
@@ -183,12 +230,17 @@ class ContactFinder {
   }
 
  private:
-  struct Neighbour {
-    const Body* body;
-    long listed;  // index of a listed body, whose shape moves with it; -1 if it stays put
-  };
+  static bool same_circle(const UprightCircle& a, const UprightCircle& b) {
+    return a.radius_m == b.radius_m && a.z_min_m == b.z_min_m && a.z_max_m == b.z_max_m;
+  }
 
   Eigen::Vector2d position(std::size_t i) const { return bodies_[i].pose.position_m.head<2>(); }
+
+  // Keeps the longest displacement of a body since the lists were built.
+  void note_drift(std::size_t i) {
+    max_drift_squared_ =
+        std::max(max_drift_squared_, (position(i) - state_.anchor_m[i]).squaredNorm());
+  }
 
   // The shape of listed body i where it is now.
   PlanarShape shape_now(std::size_t i) const {
@@ -198,8 +250,8 @@ class ContactFinder {
   }
 
   long listed_index(int handle) const {
-    const auto it = index_of_.find(handle);
-    return it == index_of_.end() ? -1 : static_cast<long>(it->second);
+    const auto it = state_.index_of.find(handle);
+    return it == state_.index_of.end() ? -1 : static_cast<long>(it->second);
   }
 
   // Lists for each upright cylinder, in handle order, what could touch it before some body
@@ -217,30 +269,36 @@ class ContactFinder {
       queries_.push_back(BoxQuery{
           Vec3(circle.centre_m.x() - reach_m, circle.centre_m.y() - reach_m, circle.z_min_m),
           Vec3(circle.centre_m.x() + reach_m, circle.centre_m.y() + reach_m, circle.z_max_m),
-          self_[i]->handle});
+          state_.self[i]->handle});
       circles_.push_back(i);
-      mask |= contact_mask(self_[i]->group);
+      mask |= contact_mask(state_.self[i]->group);
     }
     overlap_query_batch(world_, queries_, mask, found_first_, found_);
-    neighbours_.clear();
-    first_.assign(bodies_.size() + 1, 0);
+    std::vector<Neighbour>& neighbours = state_.neighbours;
+    neighbours.clear();
+    state_.first.assign(bodies_.size() + 1, 0);
     for (std::size_t q = 0, i = 0; i < bodies_.size(); ++i) {
       if (q < circles_.size() && circles_[q] == i) {
         const UprightCircle self = shape_now(i).circle;
         for (std::size_t k = found_first_[q]; k < found_first_[q + 1]; ++k) {
           const Body& other = *found_[k];
-          if ((other.group & contact_mask(self_[i]->group)) == 0) continue;
+          if ((other.group & contact_mask(state_.self[i]->group)) == 0) continue;
           const long listed = listed_index(other.handle);
           const PlanarShape shape = listed >= 0 ? shape_now(listed) : planar_shape(other);
           if (within_reach(self, shape, other, kNeighbourMargin_m)) {
-            neighbours_.push_back(Neighbour{&other, listed});
+            neighbours.push_back(Neighbour{&other, listed});
           }
         }
         ++q;
       }
-      first_[i + 1] = neighbours_.size();
+      state_.first[i + 1] = neighbours.size();
     }
-    std::fill(drift_m_.begin(), drift_m_.end(), Eigen::Vector2d::Zero());
+    state_.circles.resize(bodies_.size());
+    state_.anchor_m.resize(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      state_.circles[i] = shape_[i].circle;
+      state_.anchor_m[i] = position(i);
+    }
     max_drift_squared_ = 0.0;
   }
 
@@ -271,8 +329,8 @@ class ContactFinder {
 
   // Whether body i's contact with @p handle came from a closed form.
   bool has_closed_form(std::size_t i, int handle) const {
-    for (std::size_t k = first_[i]; k < first_[i + 1]; ++k) {
-      const Neighbour& neighbour = neighbours_[k];
+    for (std::size_t k = state_.first[i]; k < state_.first[i + 1]; ++k) {
+      const Neighbour& neighbour = state_.neighbours[k];
       if (neighbour.body->handle != handle) continue;
       const PlanarShape::Kind kind = neighbour.listed >= 0 ? shape_[neighbour.listed].kind
                                                            : planar_shape(*neighbour.body).kind;
@@ -283,13 +341,9 @@ class ContactFinder {
 
   CollisionWorld& world_;
   std::vector<MovableBody>& bodies_;
-  std::unordered_map<int, std::size_t> index_of_;  // handle -> listed body (lookups only)
-  std::vector<const Body*> self_;                  // per listed body
-  std::vector<PlanarShape> shape_;                 // per listed body, centre as at the start
-  std::vector<Neighbour> neighbours_;              // body i's: [first_[i], first_[i + 1])
-  std::vector<std::size_t> first_;
-  std::vector<Eigen::Vector2d> drift_m_;  // each body's displacement since the rebuild
-  double max_drift_squared_ = 0.0;        // the longest of them so far, squared
+  State& state_;                          // the lists, this call's or kept from the last
+  std::vector<PlanarShape> shape_;        // per listed body, centre as at the start
+  double max_drift_squared_ = 0.0;        // longest displacement since the rebuild, squared
   std::vector<char> dirty_;               // moved since the world last learnt its pose
   std::vector<std::size_t> moved_;        // the dirty bodies, in the order they moved
   std::vector<const Body*> found_;        // scratch for broadphase queries
@@ -301,8 +355,9 @@ class ContactFinder {
 }  // namespace
 
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
-                            const ContactSettings& settings) {
-  ContactFinder finder(world, bodies);
+                            const ContactSettings& settings, ContactCache* cache) {
+  ContactCache::State this_call;
+  ContactFinder finder(world, bodies, cache != nullptr ? *cache->state_ : this_call);
   std::vector<char> active(bodies.size(), 1);
   std::vector<char> next_active(bodies.size(), 0);
   std::vector<Touch> touches;
@@ -335,7 +390,7 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
     if (deepest <= settings.tolerance_m) break;
     active.swap(next_active);
   }
-  finder.sync();
+  finder.finish();
   return deepest;
 }
 

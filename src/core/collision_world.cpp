@@ -129,6 +129,7 @@ void CollisionWorld::add_body(std::unique_ptr<Body> body, const Pose& pose) {
   body->object->setUserPointer(body.get());
   world_->addCollisionObject(body->object.get(), body->group, contact_mask(body->group));
   bodies_.emplace(body->handle, std::move(body));
+  ++revision_;
 }
 
 Body& CollisionWorld::find(int handle) const {
@@ -141,6 +142,7 @@ void CollisionWorld::set_pose(int handle, const Pose& pose) {
   Body& body = find(handle);
   body.object->setWorldTransform(to_bt(checked_pose(pose)));
   world_->updateSingleAabb(body.object.get());
+  ++revision_;
 }
 
 void CollisionWorld::set_poses(const std::vector<int>& handles, const std::vector<Pose>& poses) {
@@ -159,6 +161,7 @@ void CollisionWorld::set_poses(const std::vector<int>& handles, const std::vecto
     bodies[i]->object->setWorldTransform(to_bt(valid_poses[i]));
     world_->updateSingleAabb(bodies[i]->object.get());
   }
+  ++revision_;
 }
 
 Pose CollisionWorld::get_pose(int handle) const {
@@ -169,6 +172,7 @@ void CollisionWorld::remove(int handle) {
   Body& body = find(handle);
   world_->removeCollisionObject(body.object.get());
   bodies_.erase(handle);
+  ++revision_;
 }
 
 bool CollisionWorld::has(int handle) const { return bodies_.count(handle) != 0; }

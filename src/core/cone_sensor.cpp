@@ -67,8 +67,15 @@ double enclosing_radius(const Primitive& shape) {
   return std::sqrt(squared) * (1.0 + 1e-12);
 }
 
-// What a cone reads with, kept per thread so that reading a cone allocates nothing.
-struct ConeScratch {
+}  // namespace
+
+ConeCandidate cone_candidate(const Body& body) {
+  return ConeCandidate{&body, to_eigen(body.object->getWorldTransform().getOrigin()),
+                       enclosing_radius(body.primitive)};
+}
+
+// What a cone reads with, kept by its reader so that reading a cone allocates nothing.
+struct ConeReader::Scratch {
   std::vector<const Body*> in_cone;
   std::vector<RayTarget> targets;
   std::vector<Vec3> per_metre;  // per target: toward / min_distance_m, sensor frame
@@ -78,15 +85,14 @@ struct ConeScratch {
   double cos_h = 0.0, sin_h = 0.0;
 };
 
-ConeScratch& cone_scratch(double half_angle_rad) {
-  thread_local ConeScratch scratch;
-  if (scratch.half_angle_rad != half_angle_rad) {
-    scratch.half_angle_rad = half_angle_rad;
-    scratch.cos_h = std::cos(half_angle_rad);
-    scratch.sin_h = std::sin(half_angle_rad);
-  }
-  return scratch;
-}
+ConeReader::ConeReader() : scratch_(std::make_unique<Scratch>()) {}
+ConeReader::~ConeReader() = default;
+ConeReader::ConeReader(ConeReader&&) noexcept = default;
+ConeReader& ConeReader::operator=(ConeReader&&) noexcept = default;
+
+namespace {
+
+using ConeScratch = ConeReader::Scratch;
 
 // Keeps the candidates whose bounding spheres reach into the cone: most of a robot's
 // neighbours lie beside or behind a given sensor, and a ray test costs more than this check.
@@ -95,14 +101,13 @@ ConeScratch& cone_scratch(double half_angle_rad) {
 //     offset · axis + R sin h >= d cos(h + asin(R / d)) + R sin h = cos h sqrt(d^2 - R^2),
 // compared squared when the left side is positive (it is read with a little slack, so that
 // rounding keeps a body rather than drops it).
-void cull_to_cone(const std::vector<const Body*>& candidates, const Pose& sensor_pose,
+void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
                   const ConeSensor& sensor, ConeScratch& scratch) {
   const Vec3 axis = sensor_pose.orientation * Vec3::UnitX();
   scratch.in_cone.clear();
-  for (const Body* body : candidates) {
-    const double radius = enclosing_radius(body->primitive);
-    const Vec3 offset = to_eigen(body->object->getWorldTransform().getOrigin()) -
-                        sensor_pose.position_m;
+  for (const ConeCandidate& candidate : candidates) {
+    const double radius = candidate.radius_m;
+    const Vec3 offset = candidate.centre_m - sensor_pose.position_m;
     const double reach = sensor.max_range_m + radius;
     const double squared = offset.squaredNorm();
     if (squared > reach * reach) continue;
@@ -111,7 +116,7 @@ void cull_to_cone(const std::vector<const Body*>& candidates, const Pose& sensor
     if (inside > 0.0 && (lhs < 0.0 || lhs * lhs < scratch.cos_h * scratch.cos_h * inside)) {
       continue;
     }
-    scratch.in_cone.push_back(body);
+    scratch.in_cone.push_back(candidate.body);
   }
 }
 
@@ -156,10 +161,16 @@ bool may_hit(const ConeScratch& scratch, std::size_t k, double limit, bool stric
 
 }  // namespace
 
-ConeReading read_cone(const std::vector<const Body*>& candidates, const Pose& sensor_pose,
-                      const ConeSensor& sensor, const std::vector<Vec3>& directions) {
+ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
+                             const Pose& sensor_pose, const ConeSensor& sensor,
+                             const std::vector<Vec3>& directions) {
   ConeReading best;
-  ConeScratch& scratch = cone_scratch(sensor.half_angle_rad);
+  ConeScratch& scratch = *scratch_;
+  if (scratch.half_angle_rad != sensor.half_angle_rad) {
+    scratch.half_angle_rad = sensor.half_angle_rad;
+    scratch.cos_h = std::cos(sensor.half_angle_rad);
+    scratch.sin_h = std::sin(sensor.half_angle_rad);
+  }
   cull_to_cone(candidates, sensor_pose, sensor, scratch);
   std::vector<RayTarget>& targets = scratch.targets;
   targets.clear();

@@ -18,6 +18,9 @@ enum Stream : std::uint64_t { kStreamIr = 1, kStreamAccel = 2, kStreamGyro = 3, 
 
 // The IR cones see everything a robot can bump into, never the floor under it.
 constexpr int kSensorMask = kGroupStatic | kGroupRobot | kGroupDynamic;
+// How far beyond its cones' reach a robot's list of what they may see extends; the lists
+// last until some robot has moved half of it.
+constexpr double kNearbyMargin_m = 0.03;
 
 void check_shape(const Eigen::Ref<const RowMatrixXd>& values, Eigen::Index rows,
                  Eigen::Index cols, const char* name) {
@@ -189,6 +192,10 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
                           " was removed from the world");
     }
   }
+  // Whether anybody else changed the world since the last step: then what the last step kept
+  // about it (the contact lists, what the cones may see) must be found again.
+  const bool world_changed = !nearby_valid_ || world_.revision() != revision_seen_;
+  nearby_valid_ = false;  // until this step completes
   std::vector<Pose2> start(robots_.size());
   for (std::size_t i = 0; i < robots_.size(); ++i) start[i] = robots_[i].pose;
   move_robots(dt_s, wheel_cmd_rad_s);
@@ -196,29 +203,14 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
   std::vector<MovableBody> bodies;
   bodies.reserve(robots_.size());
   for (const Robot& robot : robots_) bodies.push_back({robot.handle, body_pose(robot.pose)});
-  resolve_penetrations(world_, bodies);
+  resolve_penetrations(world_, bodies, ContactSettings(), &contact_cache_);
   world_.maintain_broadphase();
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     robots_[i].pose.x_m = bodies[i].pose.position_m.x();
     robots_[i].pose.y_m = bodies[i].pose.position_m.y();
   }
 
-  // What each robot's cones may see: what lies in the box its cones can reach, queried for
-  // all robots in one batch.
-  std::vector<BoxQuery> sensor_boxes;
-  sensor_boxes.reserve(robots_.size());
-  for (const Robot& robot : robots_) {
-    const Pose2& pose = robot.pose;
-    sensor_boxes.push_back(BoxQuery{
-        Vec3(pose.x_m - sensor_reach_m_, pose.y_m - sensor_reach_m_, sensor_z_min_m_),
-        Vec3(pose.x_m + sensor_reach_m_, pose.y_m + sensor_reach_m_, sensor_z_max_m_),
-        robot.handle});
-  }
-  std::vector<std::size_t> first;
-  std::vector<const Body*> seen;
-  overlap_query_batch(world_, sensor_boxes, kSensorMask, first, seen);
-
-  std::vector<const Body*> candidates;
+  find_nearby(world_changed);
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     Robot& robot = robots_[i];
     const double yaw_rate =
@@ -226,9 +218,11 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
     const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
                         (robot.pose.y_m - start[i].y_m) / dt_s, yaw_rate);
     read_imu(robot, velocity, start[i].yaw_rad, dt_s);
-    candidates.assign(seen.begin() + first[i], seen.begin() + first[i + 1]);
-    read_proximity(robot, candidates);
+    read_proximity(robot, nearby_.begin() + nearby_first_[i],
+                   nearby_.begin() + nearby_first_[i + 1]);
   }
+  revision_seen_ = world_.revision();
+  nearby_valid_ = true;
   ++frame_;
 }
 
@@ -265,9 +259,52 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
                               robot.gyro_rng);
 }
 
-// @p candidates: what the robot's cones may see (from the batch query in step).
-void EpuckSwarm::read_proximity(Robot& robot, std::vector<const Body*>& candidates) {
+// What each robot's cones may see: what lies in the box its cones can reach, widened by a
+// margin and queried for all robots in one batch. The lists are kept from step to step, like
+// the contact lists (a Verlet list): they hold while nobody else changed the world and no
+// robot has drifted half the margin since, since two robots then close at most the margin,
+// and a robot's body (an upright cylinder) is the same set of points at any heading. Extra
+// candidates change no reading (see ConeReader::read).
+void EpuckSwarm::find_nearby(bool world_changed) {
+  bool rebuild = world_changed || nearby_anchor_m_.size() != robots_.size();
+  const double limit_squared = 0.25 * kNearbyMargin_m * kNearbyMargin_m;
+  for (std::size_t i = 0; !rebuild && i < robots_.size(); ++i) {
+    const Eigen::Vector2d drift(robots_[i].pose.x_m - nearby_anchor_m_[i].x(),
+                                robots_[i].pose.y_m - nearby_anchor_m_[i].y());
+    rebuild = drift.squaredNorm() > limit_squared;
+  }
+  if (!rebuild) return;
+  const double reach_m = sensor_reach_m_ + kNearbyMargin_m;
+  std::vector<BoxQuery> boxes;
+  boxes.reserve(robots_.size());
+  nearby_anchor_m_.resize(robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const Pose2& pose = robots_[i].pose;
+    boxes.push_back(BoxQuery{Vec3(pose.x_m - reach_m, pose.y_m - reach_m, sensor_z_min_m_),
+                             Vec3(pose.x_m + reach_m, pose.y_m + reach_m, sensor_z_max_m_),
+                             robots_[i].handle});
+    nearby_anchor_m_[i] = Eigen::Vector2d(pose.x_m, pose.y_m);
+  }
+  overlap_query_batch(world_, boxes, kSensorMask, nearby_first_, nearby_);
+}
+
+// [@p begin, @p end): what the robot's cones may see (from find_nearby); of these, only what
+// may lie within reach of one of its cones is handed to them.
+void EpuckSwarm::read_proximity(Robot& robot, NearbyIterator begin, NearbyIterator end) {
   const Pose2& pose = robot.pose;
+  candidates_.clear();
+  for (NearbyIterator it = begin; it != end; ++it) {
+    const ConeCandidate candidate = cone_candidate(**it);
+    // Slack: a body that rounding puts on the edge is kept, never dropped.
+    const double reach_m = sensor_reach_m_ + candidate.radius_m + 1e-9;
+    const double dx = candidate.centre_m.x() - pose.x_m, dy = candidate.centre_m.y() - pose.y_m;
+    if (dx * dx + dy * dy > reach_m * reach_m ||
+        candidate.centre_m.z() - candidate.radius_m > sensor_z_max_m_ + 1e-9 ||
+        candidate.centre_m.z() + candidate.radius_m < sensor_z_min_m_ - 1e-9) {
+      continue;
+    }
+    candidates_.push_back(candidate);
+  }
   const Quat heading(Eigen::AngleAxisd(pose.yaw_rad, Vec3::UnitZ()));
   const Vec3 centre(pose.x_m, pose.y_m, 0.0);
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
@@ -275,10 +312,10 @@ void EpuckSwarm::read_proximity(Robot& robot, std::vector<const Body*>& candidat
     SensorOutput& out = robot.sensors[k];
     ConeReading reading;  // nothing nearby: skip all ray work
     reading.distance_m = sensor.max_range_m;
-    if (!candidates.empty()) {
+    if (!candidates_.empty()) {
       const Pose sensor_pose{centre + heading * sensor.position_m,
                              heading * sensor_orientations_[k]};
-      reading = read_cone(candidates, sensor_pose, sensor, ray_directions_[k]);
+      reading = cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
     }
     out.handle = reading.handle;
     out.point_m = reading.point_m;

@@ -4,7 +4,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import GREY, IDENTITY, add_arena, still
+from conftest import GREY, IDENTITY, add_arena, still, yaw_quaternion
 
 from epuck_vrep_compat import _core
 
@@ -327,3 +327,65 @@ def test_adding_and_removing_is_deterministic():
     a, b = run(), run()
     for name in OUTPUTS:
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+def crowded_world(world):
+    """A small arena crowded with every kind of shape: upright and turned boxes, cylinders, a
+    sphere and a tilted box (the last two through Bullet's narrowphase)."""
+    add_arena(world, 0.3)
+    tilt = (math.sin(0.2), 0.0, 0.0, math.cos(0.2))
+    world.add_box(20, (0.05, 0.02, 0.03), (0.1, 0.12, 0.03), yaw_quaternion(0.5), GREY)
+    world.add_box(21, (0.02, 0.08, 0.03), (-0.15, -0.1, 0.03), IDENTITY, GREY)
+    world.add_cylinder(22, 0.03, 0.06, (0.15, -0.15, 0.03), IDENTITY, GREY)
+    world.add_sphere(23, 0.025, (-0.1, 0.15, 0.025), IDENTITY, GREY)
+    world.add_box(24, (0.03, 0.03, 0.03), (0.0, -0.2, 0.03), tilt, GREY)
+    world.add_cylinder(25, 0.01, 0.08, (0.2, 0.05, 0.04), IDENTITY, GREY)
+    world.add_box(26, (0.01, 0.01, 0.01), (5.0, 5.0, 0.01), IDENTITY, GREY)  # far away
+
+
+def crowded_run(touch_every_step, steps=600):
+    """Twenty robots with random commands in the crowded world; the readings of every step.
+    With @p touch_every_step, a far-away box is set where it is before each step: the world
+    has changed, so the swarm keeps nothing (contact lists, what its cones may see) from the
+    step before."""
+    world = _core.CollisionWorld()
+    crowded_world(world)
+    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 11)
+    rng = np.random.default_rng(8)
+    for i in range(20):
+        swarm.add_robot(100 + i, *rng.uniform(-0.25, 0.25, 2), rng.uniform(-3.0, 3.0))
+    n = swarm.size
+    swarm.set_ir_noise(np.full((n, 8), 0.5), np.full((n, 8), 0.002), np.full((n, 8), 0.001))
+    commands = rng.uniform(-4.0, 7.0, (steps // 20, n, 2))
+    readings = []
+    for step in range(steps):
+        if step == 300:  # someone moves an obstacle and a robot between two steps
+            world.set_pose(20, (-0.05, 0.05, 0.03), yaw_quaternion(1.0))
+            swarm.set_pose(3, 0.0, 0.0, 0.0)
+        if touch_every_step:
+            world.set_pose(26, (5.0, 5.0, 0.01), IDENTITY)
+        swarm.step(DT, commands[step // 20])
+        readings.append([swarm.poses, swarm.ranges, swarm.ranges_clean, swarm.detected_handles,
+                         swarm.detected_points, swarm.detected_normals, swarm.accel])
+    return readings
+
+
+def test_what_a_step_keeps_for_the_next_changes_no_reading():
+    # The contact lists and the cones' candidates last several steps; they may only make a
+    # step faster. A world changed before every step rebuilds them every step.
+    kept, rebuilt = crowded_run(False), crowded_run(True)
+    for step, (a, b) in enumerate(zip(kept, rebuilt)):
+        for x, y in zip(a, b):
+            assert np.array_equal(x, y), f"step {step}"
+    # the run is crowded: robots touch each other, the walls and the obstacles
+    handles = np.concatenate([r[3].ravel() for r in kept])
+    assert {1, 20, 21, 22, 23, 24, 25}.issubset(set(handles)) and (handles >= 100).any()
+
+
+def test_revision_counts_changes_of_geometry(world):
+    start = world.revision
+    world.add_box(1, (0.1, 0.1, 0.1), (0.0, 0.0, 0.1), IDENTITY, GREY)
+    world.set_pose(1, (0.1, 0.0, 0.1), IDENTITY)
+    world.set_color(1, (0.1, 0.2, 0.3))  # no geometry
+    world.remove(1)
+    assert world.revision == start + 3
