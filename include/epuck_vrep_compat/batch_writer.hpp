@@ -57,6 +57,17 @@ class BatchWriter {
   /// Queues one whole batch for a connection (copied); never waits for a flush. Batches for
   /// an id that is closed (or unknown) by the time they are sent are dropped.
   void queue(int id, const char* data, std::size_t size);
+  /// Bytes [begin, end) of a buffer, for one connection.
+  struct Slice {
+    int id;
+    std::size_t begin;
+    std::size_t end;
+  };
+  /// Queues slices of one buffer (copied), for many connections at once (a step's messages of
+  /// one kind, each to the connections of its topic). Until the next flush takes them, what is
+  /// queued for one connection, by queue() or here, grows one batch in call order. Throws
+  /// std::out_of_range, before queueing anything, for a slice outside the buffer.
+  void queue_slices(const char* data, std::size_t size, const Slice* slices, std::size_t count);
   /// Sends what every socket takes now, trims backlogs; never blocks on a socket.
   std::vector<WriterReport> flush();
   /// Asks the writer's thread (started on first use) for a flush of what is queued now.
@@ -92,6 +103,7 @@ class BatchWriter {
   std::vector<int> to_flush_;  ///< ids with queued batches or a backlog, in queue order
   std::mutex incoming_mutex_;  ///< incoming_: held only to append or swap
   std::vector<std::pair<int, std::string>> incoming_;
+  std::unordered_map<int, std::size_t> incoming_at_;  ///< id -> its batch growing in incoming_
   std::mutex worker_mutex_;  ///< the fields below
   std::condition_variable worker_wake_;
   std::condition_variable worker_idle_;

@@ -1,10 +1,13 @@
 // The ROS faces' send path in epuck_vrep_compat._core: BatchWriter (non-blocking, batched
 // writes with bounded per-connection backlogs). A thin shim: it takes bytes, releases the GIL
 // while the sockets are written, and leaves all behaviour to the core.
+#include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include "epuck_vrep_compat/batch_writer.hpp"
@@ -56,6 +59,32 @@ void bind_wire(py::module_& m) {
           "id"_a, "data"_a,
           "Queue one whole batch (bytes-like, copied) for a connection; a closed connection's "
           "batches are dropped.")
+      .def(
+          "queue_slices",
+          [](BatchWriter& writer, py::buffer data,
+             py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> slices) {
+            const py::buffer_info info = data.request();
+            if (slices.ndim() != 2 || slices.shape(1) != 3) {
+              throw std::invalid_argument("slices must have shape (M, 3): id, begin, end");
+            }
+            const auto rows = slices.unchecked<2>();
+            std::vector<BatchWriter::Slice> parts;
+            parts.reserve(static_cast<std::size_t>(rows.shape(0)));
+            for (py::ssize_t k = 0; k < rows.shape(0); ++k) {
+              if (rows(k, 1) < 0 || rows(k, 2) < 0) {
+                throw std::out_of_range("slice " + std::to_string(k) + " has a negative bound");
+              }
+              parts.push_back({static_cast<int>(rows(k, 0)), static_cast<std::size_t>(rows(k, 1)),
+                               static_cast<std::size_t>(rows(k, 2))});
+            }
+            writer.queue_slices(static_cast<const char*>(info.ptr),
+                                static_cast<std::size_t>(info.size * info.itemsize), parts.data(),
+                                parts.size());
+          },
+          "data"_a, "slices"_a,
+          "Queue bytes [begin, end) of data for connection id, for each row (id, begin, end) of "
+          "slices (M, 3); what one connection gets until the next flush grows one batch, in "
+          "call order. IndexError, queueing nothing, for a slice outside data.")
       .def(
           "flush",
           [](BatchWriter& writer) {

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <stdexcept>
+#include <string>
 #include <system_error>
 
 namespace evc {
@@ -57,7 +59,28 @@ void BatchWriter::close(int id) {
 void BatchWriter::queue(int id, const char* data, std::size_t size) {
   if (size == 0) return;
   std::lock_guard<std::mutex> lock(incoming_mutex_);
+  incoming_at_[id] = incoming_.size();
   incoming_.emplace_back(id, std::string(data, size));
+}
+
+void BatchWriter::queue_slices(const char* data, std::size_t size, const Slice* slices,
+                               std::size_t count) {
+  for (std::size_t k = 0; k < count; ++k) {
+    if (slices[k].begin > slices[k].end || slices[k].end > size) {
+      throw std::out_of_range("slice " + std::to_string(k) + " [" +
+                              std::to_string(slices[k].begin) + ", " +
+                              std::to_string(slices[k].end) + ") is outside the " +
+                              std::to_string(size) + " bytes given");
+    }
+  }
+  std::lock_guard<std::mutex> lock(incoming_mutex_);
+  for (std::size_t k = 0; k < count; ++k) {
+    const Slice& slice = slices[k];
+    if (slice.begin == slice.end) continue;
+    const auto found = incoming_at_.try_emplace(slice.id, incoming_.size());
+    if (found.second) incoming_.emplace_back(slice.id, std::string());
+    incoming_[found.first->second].second.append(data + slice.begin, slice.end - slice.begin);
+  }
 }
 
 void BatchWriter::take_incoming() {
@@ -65,6 +88,7 @@ void BatchWriter::take_incoming() {
   {
     std::lock_guard<std::mutex> lock(incoming_mutex_);
     incoming.swap(incoming_);
+    incoming_at_.clear();
   }
   for (auto& item : incoming) {
     auto it = connections_.find(item.first);

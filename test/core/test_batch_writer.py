@@ -7,6 +7,7 @@ import resource
 import socket
 import struct
 
+import numpy as np
 import pytest
 
 from epuck_vrep_compat import _core
@@ -174,3 +175,39 @@ def test_a_closed_sockets_descriptor_is_refused_borrowed_too():
         writer.open(-1, own=False)           # a closed socket's fileno()
     assert bad.value.errno == errno.EBADF
     assert writer.connection_count == 0
+
+
+def test_slices_of_one_buffer_go_to_their_connections_in_call_order():
+    pairs = [socket.socketpair() for _ in range(2)]
+    try:
+        writer = _core.BatchWriter(1 << 20)
+        ids = [writer.open(a.fileno()) for a, _ in pairs]
+        packed = batch(1, 16) + batch(2, 24) + batch(3, 8)       # one step, three messages
+        bounds = [(0, 20), (20, 48), (48, 60)]
+        writer.queue(ids[0], batch(0, 12))
+        # connection 0 gets messages 1 and 3, connection 1 message 2; then a second step
+        rows = [(ids[0], *bounds[0]), (ids[1], *bounds[1]), (ids[0], *bounds[2])]
+        writer.queue_slices(packed, np.array(rows))
+        writer.queue_slices(packed, np.array([(ids[1], *bounds[0])]))
+        reports = writer.flush()
+        assert sorted((r[0], r[2], r[3]) for r in reports) == [(ids[0], 0, False),
+                                                              (ids[1], 0, False)]
+        streams = [read_all(b) for _, b in pairs]
+        assert sequence_numbers(streams[0]) == [0, 1, 3]
+        assert sequence_numbers(streams[1]) == [2, 1]
+        assert streams[0] == batch(0, 12) + packed[0:20] + packed[48:60]
+        # a slice outside the buffer is refused before anything is queued
+        with pytest.raises(IndexError):
+            writer.queue_slices(packed, np.array([(ids[0], 0, 20), (ids[1], 50, 61)]))
+        with pytest.raises(ValueError):
+            writer.queue_slices(packed, np.array([ids[0], 0, 20]))
+        writer.flush()
+        assert read_all(pairs[0][1]) == b"" and read_all(pairs[1][1]) == b""
+        writer.close(ids[1])       # a closed connection's slices are dropped
+        writer.queue_slices(packed, np.array([(ids[1], 0, 20), (ids[0], 20, 48)]))
+        writer.flush()
+        assert sequence_numbers(read_all(pairs[0][1])) == [2]
+    finally:
+        for a, b in pairs:
+            a.close()
+            b.close()

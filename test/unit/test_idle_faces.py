@@ -2,10 +2,11 @@
 nothing per step; one subscriber gets exactly its topic's work done."""
 import os
 import socket
+import struct
 
 import pytest
 import rospy.core
-from sensor_msgs.msg import Image
+from sensor_msgs.msg import Image, Range
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
@@ -33,6 +34,7 @@ class Subscriber:
         Subscriber.opened.append(self)
         self.endpoint_id = name
         self.done = False
+        self.stat_bytes = 0
         self.written = []
         self.socket, self._peer = socket.socketpair()    # rospy polls the descriptor
         self.cleanup_cb = None
@@ -108,11 +110,21 @@ def test_nobody_subscribed_means_no_packing_and_no_rendering(faces):
 
 def test_one_subscriber_gets_only_its_topics_work(faces):
     sim, (epucks, tf, cameras), work, tf_pub = faces
-    epucks.robots[1].ranges[2].impl.add_connection(Subscriber("/ranges"))
+    ranges = Subscriber("/ranges")
+    epucks.robots[1].ranges[2].impl.add_connection(ranges)
     camera = cameras._cameras[sim.robot_names[0]]
     camera.image.impl.add_connection(Subscriber("/viewer"))
     batch = step_once(sim, (epucks, tf, cameras), tf_pub)
     # the ranges of all robots packed once (one array op), one camera rendered, no /tf
     assert sorted(work, key=str) == sorted(["MessageBatch", ("render", camera.frame)], key=str)
-    # both go out through the step batch (the camera's image too, off the interpreter)
-    assert set(batch._pending) == {epucks.robots[1].ranges[2].impl, camera.image.impl}
+    # both go out through the step batch (the camera's image too, off the interpreter); the
+    # ranges as slices of their packed step, straight to the writer
+    assert set(batch._pending) == {camera.image.impl}
+    batch.flush()
+    frame = ranges._peer.recv(1 << 16, socket.MSG_DONTWAIT)
+    (size,) = struct.unpack("<I", frame[:4])
+    assert size == len(frame) - 4
+    msg = Range().deserialize(frame[4:])
+    assert msg.header.frame_id == PROFILE.frame(sim.robot_names[1], "base_prox2")
+    assert msg.range == pytest.approx(min(max(sim.swarm.ranges[1, 2], msg.min_range),
+                                          msg.max_range))

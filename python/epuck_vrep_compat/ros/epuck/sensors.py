@@ -25,7 +25,8 @@ GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
 
 class _ConnectionCounter(rospy.SubscribeListener):
     """Keeps ``face.connections[index]`` = subscriber connections of one robot's publishers
-    (``index``: the robot's row, -1 before it has one and once it is removed).
+    (``index``: the robot's row, -1 before it has one and once it is removed), and marks the
+    robot's routes (where its messages go, see :meth:`EpuckFace.publish`) stale.
 
     Recounted from the publishers on every event: rospy may report one disconnection twice
     (a failed write and the transport's cleanup), so counting events would drift.
@@ -37,8 +38,11 @@ class _ConnectionCounter(rospy.SubscribeListener):
         self.index = -1
         self.count = 0
         self.publishers = []
+        self.routes_stale = True
 
     def _recount(self):
+        self.routes_stale = True          # the robot's first, then the face's (see publish)
+        self._face.routes_stale = True
         count = sum(len(p.impl.connections) for p in self.publishers
                     if p.impl is not None and p.impl.connections)
         with self._face.connections_lock:   # the step thread snapshots the counts under it
@@ -75,6 +79,7 @@ class _Robot:
         self.cmd_vel = rospy.Subscriber(profile.topic(name, "cmd_vel"), Twist, face.on_cmd_vel,
                                         name, queue_size=10)
         self.outputs = []
+        self.routes = []        # (kind, writer id, begin, end) per connection of its outputs
 
     def close(self):
         """The robot was removed: its topics go (the counter was detached first)."""
@@ -98,6 +103,9 @@ class EpuckFace(Face):
         self.connections_lock = threading.Lock()
         self.robots = []
         self._by_name = {}
+        self.routes_stale = True
+        self._routes = {}             # kind -> (M, 3) rows for StepBatch.add_slices
+        self._routes_batch = None     # the batch whose writer ids the routes hold
         self._sensor_yaws = [s.yaw_rad for s in sim.model.sensors]
         self._max_range = profile.range.max_range_m
         self._min_range = profile.range.min_range_m
@@ -143,6 +151,8 @@ class EpuckFace(Face):
             profile.odom_pose_variances)
         for i, robot in enumerate(self.robots):
             robot.outputs = self._outputs(i, robot)
+            robot.counter.routes_stale = True
+        self.routes_stale = True
 
     def _outputs(self, i, robot):
         """(publisher, message kind, byte range of its frame in the kind's packed step)."""
@@ -169,25 +179,43 @@ class EpuckFace(Face):
 
     # --- per step ------------------------------------------------------------------------
     def publish(self, step: Step):
-        """Queue this step's sensor messages of every robot someone listens to."""
+        """Queue this step's sensor messages of every robot someone listens to: each kind
+        packed once for all robots, its slices handed to the step batch in one call."""
         batch, secs, nsecs = step.batch, step.secs, step.nsecs
+        if self.routes_stale or batch is not self._routes_batch:
+            self._route(batch)
+        for kind, slices in self._routes.items():
+            batch.add_slices(self._pack(kind, secs, nsecs), slices)
+        if not self.profile.publishes_scan:
+            return
         with self.connections_lock:
             active = np.flatnonzero(self.connections)
-        if active.size == 0:
-            return
-        packed = {}
-        add_frame = batch.add_frame
         for i in active.tolist():
             robot = self.robots[i]
-            for pub, kind, (start, end) in robot.outputs:
-                if pub.impl.connections:
-                    data = packed.get(kind)
-                    if data is None:
-                        data = packed[kind] = self._pack(kind, secs, nsecs)
-                    add_frame(pub, data[start:end])
             if robot.scan is not None and robot.scan.impl.connections:
                 batch.add(robot.scan, self._scan(robot, secs, nsecs,
                                                  self.sim.swarm.ranges_clean[i]))
+
+    def _route(self, batch):
+        """Where each message goes: for every connection of every output, the batch's writer
+        id and the message's bytes in its kind's packed step. Only robots whose connections
+        changed are looked at again (all of them for a new batch or layout)."""
+        everything = batch is not self._routes_batch
+        self.routes_stale = False     # first: an event from now on marks it again
+        self._routes_batch = batch
+        rows = {}
+        for robot in self.robots:
+            counter = robot.counter
+            if everything or counter.routes_stale:
+                counter.routes_stale = False
+                robot.routes = [(kind, wid, start, end)
+                                for pub, kind, (start, end) in robot.outputs
+                                for connection in pub.impl.connections
+                                for wid in (batch.writer_id(pub, connection),)
+                                if wid is not None]
+            for kind, wid, start, end in robot.routes:
+                rows.setdefault(kind, []).append((wid, start, end))
+        self._routes = {kind: np.array(r, dtype=np.int64) for kind, r in rows.items()}
 
     def _pack(self, kind, secs, nsecs) -> bytes:
         swarm = self.sim.swarm

@@ -118,6 +118,22 @@ class StepBatch:
         else:
             chunks.append(frame)
 
+    def add_slices(self, data: bytes, slices):
+        """Queue slices of one packed buffer, each for one connection: rows (writer id, begin,
+        end) of ``slices``, ids from :meth:`writer_id`. A face whose messages of one kind lie
+        in one buffer sends a step of them in one call, however many topics they go to."""
+        if len(slices):
+            self._writer.queue_slices(data, slices)
+
+    def writer_id(self, pub, connection):
+        """The writer's id for one of ``pub``'s connections (opened on first use), or None
+        when rospy has dropped the connection meanwhile. For :meth:`add_slices`' tables, which
+        a face rebuilds when its topics' connections change."""
+        entry = self._ids.get(connection)
+        if entry is None:
+            entry = self._open(pub.impl, connection)
+        return None if entry is None else entry[0]
+
     def due(self) -> bool:
         return time.monotonic() - self._last_flush >= self.max_delay_s
 
