@@ -6,7 +6,7 @@ import struct
 
 import pytest
 import rospy.core
-from sensor_msgs.msg import Image, Range
+from sensor_msgs.msg import Range
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
@@ -76,7 +76,7 @@ def faces(monkeypatch):
 
     def render(camera, secs, nsecs):
         work.append(("render", camera.frame))
-        return Image()
+        return b""
     monkeypatch.setattr(camera_module._Camera, "render", render)
     epucks = EpuckFace(PROFILE, sim, "si", "ros", True)
     tf = TfFace(PROFILE, sim, StaticTransforms(Ignored()))

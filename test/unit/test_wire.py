@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Imu, Range
+from sensor_msgs.msg import Image, Imu, Range
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.ros.transport import wire
@@ -102,3 +102,16 @@ def test_transform_batch_matches_genpy():
     packed = wire.TransformBatchWire(frames).pack(42, 50000000, t, q)
     assert packed._md5sum == TFMessage._md5sum
     assert _framed(packed)[4:] == _framed(msg)[4:]
+
+
+@pytest.mark.parametrize("encoding,channels", [("rgb8", 3), ("mono8", 1)])
+def test_image_wire_matches_genpy(encoding, channels):
+    layout = wire.ImageWire("ePuck4/camera_optical", 5, 3, encoding)
+    pixels = bytes(range(5 * 3 * channels))
+    msg = _stamp(Image(height=3, width=5, encoding=encoding, is_bigendian=0, step=5 * channels,
+                       data=pixels), 7, 250, "ePuck4/camera_optical")
+    assert layout.frame(7, 250, pixels) == _framed(msg)
+    image = np.frombuffer(pixels, dtype=np.uint8).reshape((3, 5, channels)[:2 + (channels > 1)])
+    assert layout.frame(7, 250, image.data) == _framed(msg)     # a numpy image, uncopied
+    with pytest.raises(ValueError):
+        layout.frame(7, 250, pixels[:-1])

@@ -14,8 +14,9 @@ from sensor_msgs.msg import CameraInfo, Image
 
 from epuck_vrep_compat.ros.epuck import names
 from epuck_vrep_compat.ros.face import Face, Step
-from epuck_vrep_compat.ros.messages import camera_info, fill_image
+from epuck_vrep_compat.ros.messages import camera_info
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
+from epuck_vrep_compat.ros.transport.wire import ImageWire
 
 
 class _Watch(rospy.SubscribeListener):
@@ -57,8 +58,7 @@ class CameraFace(Face):
         for name, robot in zip(names_now, self.sim.robots):
             if name not in self._cameras:
                 self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot,
-                                              self._watch)
-                self._cameras[name].gray = self.mode == "gray"
+                                              self._watch, gray=self.mode == "gray")
         self.watched_stale = True
 
     def publish(self, step: Step):
@@ -72,17 +72,18 @@ class CameraFace(Face):
             if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
                 continue
             camera.next_due_s = now + self._period_s
-            step.batch.add(camera.image, camera.render(step.secs, step.nsecs))
+            step.batch.add_frame(camera.image, camera.render(step.secs, step.nsecs))
 
 
 class _Camera:
     """One robot's camera: its vision sensor, image topic and latched camera_info."""
 
-    def __init__(self, profile, spec, name, robot, watch):
+    def __init__(self, profile, spec, name, robot, watch, gray=False):
         self.sensor = robot.parts["camera"].properties["vision"]
         self.frame = profile.frame(name, names.CAMERA_FRAME)
         self.next_due_s = 0.0
-        self.gray = False
+        self.gray = gray
+        self._wire = ImageWire(self.frame, spec.width, spec.height, "mono8" if gray else "rgb8")
         self.image = synchronous_publisher(profile.topic(name, "camera"), Image,
                                            subscriber_listener=watch)
         self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
@@ -90,14 +91,12 @@ class _Camera:
         self.info.publish(camera_info(spec.width, spec.height, spec.vertical_fov_rad,
                                       self.frame))
 
-    def render(self, secs: int, nsecs: int) -> Image:
+    def render(self, secs: int, nsecs: int) -> bytes:
+        """The image as a TCPROS frame, laid out once (``wire.ImageWire``)."""
         rgb, _depth = self.sensor.render()
         if self.gray:
             rgb = np.rint(rgb @ np.array([0.299, 0.587, 0.114])).clip(0, 255).astype(np.uint8)
-        msg = fill_image(Image(), rgb)
-        msg.header.stamp = rospy.Time(secs, nsecs)
-        msg.header.frame_id = self.frame
-        return msg
+        return self._wire.frame(secs, nsecs, np.ascontiguousarray(rgb, dtype=np.uint8).data)
 
     def close(self):
         self.image.unregister()

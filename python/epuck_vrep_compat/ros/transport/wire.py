@@ -183,5 +183,27 @@ class TransformBatchWire:
         return WireMessage(TFMessage, buf.tobytes())
 
 
-__all__ = ["MessageBatch", "TransformBatchWire", "WireMessage", "imu_batch",
+class ImageWire:
+    """``sensor_msgs/Image`` frames of one camera: frame id, size and encoding laid out once;
+    each image writes only its stamp and pixels (top row first, ``is_bigendian`` 0, seq 0)."""
+
+    _STAMP = struct.Struct("<3I")
+
+    def __init__(self, frame_id: str, width: int, height: int, encoding: str):
+        channels = {"rgb8": 3, "mono8": 1}[encoding]
+        self.data_size = width * height * channels
+        self._tail = (_string(frame_id) + struct.pack("<2I", height, width) + _string(encoding)
+                      + struct.pack("<BI", 0, width * channels) + _U32.pack(self.data_size))
+        self._length = _U32.pack(self._STAMP.size + len(self._tail) + self.data_size)
+
+    def frame(self, secs: int, nsecs: int, pixels) -> bytes:
+        """The TCPROS frame (4-byte length, then the body) of one image; ``pixels``: any
+        C-contiguous bytes-like object (a numpy image's ``data``)."""
+        pixels = memoryview(pixels).cast("B")
+        if pixels.nbytes != self.data_size:
+            raise ValueError(f"an image of {self.data_size} bytes expected, got {pixels.nbytes}")
+        return b"".join((self._length, self._STAMP.pack(0, secs, nsecs), self._tail, pixels))
+
+
+__all__ = ["ImageWire", "MessageBatch", "TransformBatchWire", "WireMessage", "imu_batch",
            "odometry_batch", "planar_odometry_values", "range_batch"]
