@@ -6,13 +6,16 @@
 // and the once-a-second master re-scan run on the main thread, so the counters need no locks.
 //
 // Usage: subscribe_all [--regex R] [--duration S] [--scan-period S] [--queue-size Q]
-//                      [--per-topic] [ROS remappings]
+//                      [--per-topic] [--progress S] [ROS remappings]
 // On SIGINT/SIGTERM, or after --duration seconds, it prints one JSON line to stdout:
 //   {"topics":n,"messages":m,"bytes":b,"wall_s":t,"rate_hz_total":m/t}
 // "bytes" counts serialised message bodies, without TCPROS's 4-byte length prefix.
 // "wall_s" runs from the first master scan to the end. SIGUSR1 zeroes the counters and restarts
 // that clock, so a benchmark can count over an exact window once every subscription is
-// connected. Diagnostics go to stderr only.
+// connected. Diagnostics go to stderr only; with --progress S, every S seconds one JSON line
+//   {"progress_s":t,"topics":n,"publishers":p,"delivered":d}
+// (topics with a publisher connection, topics that have delivered a message since the start,
+// whatever SIGUSR1 reset), so a benchmark can tell when every subscription delivers.
 
 #include <ros/callback_queue.h>
 #include <ros/master.h>
@@ -46,18 +49,20 @@ struct Options {
   // a dropped message would hide a slow consumer, so keep it generous.
   int queue_size = 1000;
   bool per_topic = false;
+  double progress_s = 0.0;  // 0: no progress lines
 };
 
 struct TopicCount {
   ros::Subscriber subscriber;
   std::uint64_t messages = 0;
   std::uint64_t bytes = 0;
+  bool delivered = false;  // a message arrived since the start (SIGUSR1 leaves it)
 };
 
 void printUsageAndExit(const char* program) {
   std::fprintf(stderr,
                "usage: %s [--regex R] [--duration S] [--scan-period S] [--queue-size Q] "
-               "[--per-topic]\n",
+               "[--per-topic] [--progress S]\n",
                program);
   std::exit(2);
 }
@@ -80,6 +85,8 @@ Options parseOptions(int argc, char** argv) {
     const bool has_value = i + 1 < argc;
     if (arg == "--regex" && has_value) {
       options.regex = argv[++i];
+    } else if (arg == "--progress" && has_value) {
+      options.progress_s = parsePositive("--progress", argv[++i]);
     } else if (arg == "--duration" && has_value) {
       options.duration_s = parsePositive("--duration", argv[++i]);
     } else if (arg == "--scan-period" && has_value) {
@@ -119,6 +126,7 @@ class TopicCounter {
           [&count](const topic_tools::ShapeShifter::ConstPtr& message) {
             ++count.messages;
             count.bytes += message->size();
+            count.delivered = true;
           });
     }
   }
@@ -128,6 +136,18 @@ class TopicCounter {
       entry.second.messages = 0;
       entry.second.bytes = 0;
     }
+  }
+
+  void printProgress(double seconds) const {
+    std::size_t publishers = 0;
+    std::size_t delivered = 0;
+    for (const auto& entry : counts_) {
+      if (entry.second.subscriber.getNumPublishers() > 0) ++publishers;
+      if (entry.second.delivered) ++delivered;
+    }
+    std::fprintf(stderr, "{\"progress_s\":%.1f,\"topics\":%zu,\"publishers\":%zu,"
+                 "\"delivered\":%zu}\n", seconds, counts_.size(), publishers, delivered);
+    std::fflush(stderr);
   }
 
   void printJson(double wall_s, bool per_topic) const {
@@ -185,6 +205,10 @@ int main(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   Clock::time_point start = Clock::now();
   Clock::time_point next_scan = start;
+  const Clock::time_point first_scan = start;
+  const auto progress_period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(options.progress_s));
+  Clock::time_point next_progress = start + progress_period;
   const auto seconds_since_start = [&start] {
     return std::chrono::duration<double>(Clock::now() - start).count();
   };
@@ -201,6 +225,10 @@ int main(int argc, char** argv) {
     if (Clock::now() >= next_scan) {
       counter.scanMaster();
       next_scan += scan_period;
+    }
+    if (options.progress_s > 0.0 && Clock::now() >= next_progress) {
+      counter.printProgress(std::chrono::duration<double>(Clock::now() - first_scan).count());
+      next_progress += progress_period;
     }
     if (options.duration_s > 0.0 && seconds_since_start() >= options.duration_s) break;
     queue.callAvailable(ros::WallDuration(0.01));

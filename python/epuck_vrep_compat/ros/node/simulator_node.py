@@ -37,7 +37,9 @@ from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
-from epuck_vrep_compat.ros.transport.accept_queue import widen_accept_queue
+from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
+                                                          share_connection_poller,
+                                                          widen_accept_queue)
 from epuck_vrep_compat.ros.transport.registration import BulkRegistration
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
@@ -239,6 +241,8 @@ def main():
                          "roscore, or start the simulator with roslaunch\n")
         return 1
     first_master_pid = master_pid(NODE)
+    raise_descriptor_limit()     # one per connection: 14 001 for 1000 robots, all subscribed
+    share_connection_poller()    # not one more per topic
     rospy.init_node(NODE_NAME)
     widen_accept_queue()         # a subscriber to every topic at once loses none
     serve_get_loggers_safely()
