@@ -223,7 +223,13 @@ def run_ours(n, measure_s, subscribe, cell_m, profile="vrep"):
         for p in (sub, sim):
             if p is not None and p.poll() is None:
                 p.terminate()
-                p.wait(timeout=30)
+                try:
+                    p.wait(timeout=60)
+                except subprocess.TimeoutExpired:   # the row stands; the process goes
+                    print(f"{p.args[:3]} did not end within 60 s of SIGTERM; killed",
+                          file=sys.stderr, flush=True)
+                    p.kill()
+                    p.wait()
         rospy.signal_shutdown("benchmark done")
         master.terminate()
         master.wait(timeout=30)

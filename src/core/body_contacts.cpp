@@ -15,8 +15,10 @@ namespace {
 // the tilt moves a 5 cm tall wall's faces by 50 pm at most.
 constexpr double kUprightTolerance = 1e-9;
 // Neighbour lists hold what lies within this gap of a body, so they stay valid until some
-// body has moved half of it; larger means fewer rebuilds and longer lists.
-constexpr double kNeighbourMargin_m = 0.03;
+// body has moved half of it; larger means fewer rebuilds and longer lists. Robots jammed
+// against a wall can be pushed several centimetres within one resolution, each time
+// rebuilding every list: at 1000 robots a 3 cm margin rebuilt them about 7 times a step.
+constexpr double kNeighbourMargin_m = 0.06;
 
 // The prism a body is in the ground plane, when it is one: an upright cylinder or box.
 struct PlanarShape {
