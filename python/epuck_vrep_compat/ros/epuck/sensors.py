@@ -6,7 +6,6 @@ out synchronously (see ``transport/step_batch.py``). Callbacks only validate and
 commands, by robot name. :meth:`EpuckFace.sync` follows robots added to and removed from the
 simulation: a new robot's topics are advertised, a removed robot's unadvertised.
 """
-import threading
 
 import numpy as np
 import rospy
@@ -23,38 +22,25 @@ from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 GRAVITY_SIGN = {"ros": 1.0, "vrep": -1.0}
 
 
-class _ConnectionCounter(rospy.SubscribeListener):
-    """Keeps ``face.connections[index]`` = subscriber connections of one robot's publishers
-    (``index``: the robot's row, -1 before it has one and once it is removed), and marks the
-    robot's routes (where its messages go, see :meth:`EpuckFace.publish`) stale.
-
-    Recounted from the publishers on every event: rospy may report one disconnection twice
-    (a failed write and the transport's cleanup), so counting events would drift.
-    """
+class _RouteWatch(rospy.SubscribeListener):
+    """Marks one robot's routes (where its messages go, see :meth:`EpuckFace.publish`) stale
+    whenever a connection to one of its publishers comes or goes."""
 
     def __init__(self, face):
         super().__init__()
         self._face = face
-        self.index = -1
-        self.count = 0
         self.publishers = []
         self.routes_stale = True
 
-    def _recount(self):
-        self.routes_stale = True          # the robot's first, then the face's (see publish)
+    def _changed(self):
+        self.routes_stale = True          # the robot's first, then the face's (see _route)
         self._face.routes_stale = True
-        count = sum(len(p.impl.connections) for p in self.publishers
-                    if p.impl is not None and p.impl.connections)
-        with self._face.connections_lock:   # the step thread snapshots the counts under it
-            self.count = count
-            if self.index >= 0:
-                self._face.connections[self.index] = count
 
     def peer_subscribe(self, topic_name, topic_publish, peer_publish):
-        self._recount()
+        self._changed()
 
     def peer_unsubscribe(self, topic_name, num_peers):
-        self._recount()
+        self._changed()
 
 
 class _Robot:
@@ -62,7 +48,7 @@ class _Robot:
 
     def __init__(self, face, name):
         profile = face.profile
-        listener = self.counter = _ConnectionCounter(face)
+        listener = self.watch = _RouteWatch(face)
 
         def publisher(role, msg_class):
             pub = synchronous_publisher(profile.topic(name, role), msg_class,
@@ -82,9 +68,9 @@ class _Robot:
         self.routes = []        # (kind, writer id, begin, end) per connection of its outputs
 
     def close(self):
-        """The robot was removed: its topics go (the counter was detached first)."""
+        """The robot was removed: its topics go."""
         self.cmd_vel.unregister()
-        for pub in self.counter.publishers:
+        for pub in self.watch.publishers:
             pub.unregister()
 
 
@@ -99,13 +85,12 @@ class EpuckFace(Face):
         self.publish_ground_truth = publish_ground_truth
         self.gravity_sign = GRAVITY_SIGN[accel_sign]
         self._log = ThrottledLog()
-        self.connections = np.zeros(0, dtype=np.int64)
-        self.connections_lock = threading.Lock()
         self.robots = []
         self._by_name = {}
         self.routes_stale = True
         self._routes = {}             # kind -> (M, 3) rows for StepBatch.add_slices
         self._routes_batch = None     # the batch whose writer ids the routes hold
+        self._scanned = []            # (row, robot) of the robots whose scan has a subscriber
         self._sensor_yaws = [s.yaw_rad for s in sim.model.sensors]
         self._max_range = profile.range.max_range_m
         self._min_range = profile.range.min_range_m
@@ -117,13 +102,7 @@ class EpuckFace(Face):
         names = self.sim.robot_names
         gone = [r for name, r in self._by_name.items() if name not in names]
         by_name = {name: self._by_name.get(name) or _Robot(self, name) for name in names}
-        with self.connections_lock:
-            for robot in gone:
-                robot.counter.index = -1
-            self.robots = [by_name[name] for name in names]
-            for i, robot in enumerate(self.robots):
-                robot.counter.index = i
-            self.connections = np.array([r.counter.count for r in self.robots], dtype=np.int64)
+        self.robots = [by_name[name] for name in names]
         self._by_name = by_name
         for robot in gone:
             robot.close()
@@ -151,7 +130,7 @@ class EpuckFace(Face):
             profile.odom_pose_variances)
         for i, robot in enumerate(self.robots):
             robot.outputs = self._outputs(i, robot)
-            robot.counter.routes_stale = True
+            robot.watch.routes_stale = True
         self.routes_stale = True
 
     def _outputs(self, i, robot):
@@ -186,28 +165,22 @@ class EpuckFace(Face):
             self._route(batch)
         for kind, slices in self._routes.items():
             batch.add_slices(self._pack(kind, secs, nsecs), slices)
-        if not self.profile.publishes_scan:
-            return
-        with self.connections_lock:
-            active = np.flatnonzero(self.connections)
-        for i in active.tolist():
-            robot = self.robots[i]
-            if robot.scan is not None and robot.scan.impl.connections:
-                batch.add(robot.scan, self._scan(robot, secs, nsecs,
-                                                 self.sim.swarm.ranges_clean[i]))
+        for i, robot in self._scanned:
+            batch.add(robot.scan, self._scan(robot, secs, nsecs, self.sim.swarm.ranges_clean[i]))
 
     def _route(self, batch):
         """Where each message goes: for every connection of every output, the batch's writer
         id and the message's bytes in its kind's packed step. Only robots whose connections
-        changed are looked at again (all of them for a new batch or layout)."""
+        changed are looked at again (all of them for a new batch or layout). The driver's scan
+        (a genpy message per robot) goes through :meth:`StepBatch.add` for the robots listed."""
         everything = batch is not self._routes_batch
         self.routes_stale = False     # first: an event from now on marks it again
         self._routes_batch = batch
         rows = {}
         for robot in self.robots:
-            counter = robot.counter
-            if everything or counter.routes_stale:
-                counter.routes_stale = False
+            watch = robot.watch
+            if everything or watch.routes_stale:
+                watch.routes_stale = False
                 robot.routes = [(kind, wid, start, end)
                                 for pub, kind, (start, end) in robot.outputs
                                 for connection in pub.impl.connections
@@ -216,6 +189,8 @@ class EpuckFace(Face):
             for kind, wid, start, end in robot.routes:
                 rows.setdefault(kind, []).append((wid, start, end))
         self._routes = {kind: np.array(r, dtype=np.int64) for kind, r in rows.items()}
+        self._scanned = [(i, robot) for i, robot in enumerate(self.robots)
+                         if robot.scan is not None and robot.scan.impl.connections]
 
     def _pack(self, kind, secs, nsecs) -> bytes:
         swarm = self.sim.swarm

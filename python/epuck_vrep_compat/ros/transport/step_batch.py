@@ -129,9 +129,7 @@ class StepBatch:
         """The writer's id for one of ``pub``'s connections (opened on first use), or None
         when rospy has dropped the connection meanwhile. For :meth:`add_slices`' tables, which
         a face rebuilds when its topics' connections change."""
-        entry = self._ids.get(connection)
-        if entry is None:
-            entry = self._open(pub.impl, connection)
+        entry = self._entry(pub.impl, connection)
         return None if entry is None else entry[0]
 
     def due(self) -> bool:
@@ -153,12 +151,9 @@ class StepBatch:
                 continue
             data = b"".join(chunks)
             for connection in impl.connections:     # rospy replaces the list, never mutates it
-                entry = self._ids.get(connection)
-                if entry is None:
-                    entry = self._open(impl, connection)
-                    if entry is None:
-                        continue
-                writer.queue(entry[0], data)
+                entry = self._entry(impl, connection)
+                if entry is not None:
+                    writer.queue(entry[0], data)
         if now - self._last_scan >= _SCAN_PERIOD_S:
             self._last_scan = now
             self._forget_gone()
@@ -187,6 +182,11 @@ class StepBatch:
                 self._forget(connection)
                 impl.remove_connection(connection)
                 connection.close()
+
+    def _entry(self, impl, connection):
+        """The writer's (id, impl) for a connection, opened on first use; None: it is gone."""
+        entry = self._ids.get(connection)
+        return entry if entry is not None else self._open(impl, connection)
 
     def _open(self, impl, connection):
         """The writer's entry for a connection seen for the first time (None: it is gone)."""
