@@ -56,4 +56,13 @@ struct CameraImage {
 CameraImage render(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
                    int ignore_handle = -1, int mask = kGroupAll);
 
+/// Renders the colour image of each of @p camera_poses, image k not seeing
+/// @p ignore_handles[k], all with @p spec, into @p rgb_out (poses × height × width × 3 bytes,
+/// image after image), on up to @p threads threads (the world must not change meanwhile).
+/// Each image is byte-identical to render()'s. Checks every pose, and throws as render() does,
+/// before drawing anything.
+void render_rgb_batch(const CollisionWorld& world, const std::vector<Pose>& camera_poses,
+                      const std::vector<int>& ignore_handles, const CameraSpec& spec, int mask,
+                      int threads, std::uint8_t* rgb_out);
+
 }  // namespace evc

@@ -157,7 +157,41 @@ void bind_world(py::module_& m) {
           "position"_a, "quaternion"_a, "width"_a, "height"_a, "vertical_fov_rad"_a, "near_m"_a,
           "far_m"_a, "ignore_handle"_a = -1, "mask"_a = int(kGroupAll),
           "Ray-cast pinhole camera (x forward, y left, z up; row 0 at the top). Returns "
-          "(rgb uint8 (H, W, 3), depth float32 (H, W) along the optical axis, far_m for none).");
+          "(rgb uint8 (H, W, 3), depth float32 (H, W) along the optical axis, far_m for none).")
+      .def(
+          "render_rgb_batch",
+          [](const CollisionWorld& w, const MatrixRef& positions, const MatrixRef& quaternions,
+             int width, int height, double vertical_fov_rad, double near_m, double far_m,
+             const std::vector<int>& ignore_handles, int mask, int threads) {
+            const Eigen::Index count = positions.rows();
+            if (positions.cols() != 3 || quaternions.cols() != 4 ||
+                quaternions.rows() != count) {
+              throw std::invalid_argument("positions (K, 3) and quaternions (K, 4) expected");
+            }
+            std::vector<Pose> poses;
+            poses.reserve(static_cast<std::size_t>(count));
+            for (Eigen::Index k = 0; k < count; ++k) {
+              poses.push_back(pose_of(positions.row(k).transpose(),
+                                      quaternions.row(k).transpose()));
+            }
+            const CameraSpec spec{width, height, vertical_fov_rad, near_m, far_m};
+            py::array_t<std::uint8_t> rgb({static_cast<py::ssize_t>(count),
+                                           static_cast<py::ssize_t>(std::max(height, 0)),
+                                           static_cast<py::ssize_t>(std::max(width, 0)),
+                                           py::ssize_t{3}});
+            std::uint8_t* out = rgb.mutable_data();
+            {
+              py::gil_scoped_release release;
+              render_rgb_batch(w, poses, ignore_handles, spec, mask, threads, out);
+            }
+            return rgb;
+          },
+          "positions"_a, "quaternions"_a, "width"_a, "height"_a, "vertical_fov_rad"_a,
+          "near_m"_a, "far_m"_a, "ignore_handles"_a, "mask"_a = int(kGroupAll),
+          "threads"_a = 1,
+          "K cameras' colour images in one call, on up to ``threads`` threads, each as "
+          "``render`` makes it (camera k does not see ignore_handles[k]). Returns rgb uint8 "
+          "(K, H, W, 3).");
 }
 
 void bind_model(py::module_& m) {

@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
+#include <thread>
 
 #include "bullet_conversions.hpp"
 #include "camera_culling.hpp"
@@ -23,6 +25,9 @@ const Vec3 kLightDirection = Vec3(0.4, 0.3, 0.866).normalized();
 constexpr double kAmbient = 0.35;
 constexpr double kDiffuse = 0.65;
 constexpr std::size_t kKeptPixels = 1 << 20;  // a larger image's scratch is freed after it
+// A batch takes another thread only for this many images each: starting one costs about as
+// much as rendering a small image.
+constexpr std::size_t kImagesPerThread = 4;
 
 void check_spec(const Pose& pose, const CameraSpec& spec) {
   if (!pose.position_m.allFinite() || !pose.orientation.coeffs().allFinite() ||
@@ -282,9 +287,11 @@ void draw(const CameraTarget& target, int colour, const CameraRays& rays, int wi
 
 }  // namespace
 
-CameraImage render(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
-                   int ignore_handle, int mask) {
-  check_spec(camera_pose, spec);
+namespace {
+
+// One image into rgb (3 bytes per pixel) and, unless null, depth_m; the pose and spec checked.
+void render_into(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
+                 int ignore_handle, int mask, std::uint8_t* rgb, float* depth_out) {
   const CameraRays rays = camera_rays(camera_pose, spec);
   const std::vector<CameraTarget> targets =
       camera_targets(world, rays, spec, ignore_handle, mask);
@@ -296,27 +303,84 @@ CameraImage render(const CollisionWorld& world, const Pose& camera_pose, const C
     draw(targets[k], static_cast<int>(k + 1), rays, spec.width, buffer);
     colours.insert(colours.end(), targets[k].rgb.data(), targets[k].rgb.data() + 3);
   }
-
-  CameraImage image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.rgb.resize(3 * pixels);
-  image.depth_m.resize(pixels);
   // Plain pointers: byte stores through the vector would make the compiler reload everything.
   const double* shade = buffer.shade.data();
   const int* colour = buffer.colour.data();
   const double* depth_m = buffer.depth_m.data();
-  std::uint8_t* rgb = image.rgb.data();
-  float* depth_out = image.depth_m.data();
   for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
     const double* base = &colours[3 * colour[pixel]];
     rgb[3 * pixel] = to_byte(base[0] * shade[pixel]);
     rgb[3 * pixel + 1] = to_byte(base[1] * shade[pixel]);
     rgb[3 * pixel + 2] = to_byte(base[2] * shade[pixel]);
-    depth_out[pixel] = static_cast<float>(std::clamp(depth_m[pixel], spec.near_m, spec.far_m));
+  }
+  if (depth_out != nullptr) {
+    for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
+      depth_out[pixel] = static_cast<float>(std::clamp(depth_m[pixel], spec.near_m, spec.far_m));
+    }
   }
   if (pixels > kKeptPixels) buffer = DepthBuffer();  // do not hold on to a huge image's memory
+}
+
+}  // namespace
+
+CameraImage render(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
+                   int ignore_handle, int mask) {
+  check_spec(camera_pose, spec);
+  const std::size_t pixels = static_cast<std::size_t>(spec.width) * spec.height;
+  CameraImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.rgb.resize(3 * pixels);
+  image.depth_m.resize(pixels);
+  render_into(world, camera_pose, spec, ignore_handle, mask, image.rgb.data(),
+              image.depth_m.data());
   return image;
+}
+
+void render_rgb_batch(const CollisionWorld& world, const std::vector<Pose>& camera_poses,
+                      const std::vector<int>& ignore_handles, const CameraSpec& spec, int mask,
+                      int threads, std::uint8_t* rgb_out) {
+  if (ignore_handles.size() != camera_poses.size()) {
+    throw std::invalid_argument("one ignore handle per camera pose expected");
+  }
+  if (threads < 1) throw std::invalid_argument("threads must be >= 1");
+  for (const Pose& pose : camera_poses) check_spec(pose, spec);
+  const std::size_t count = camera_poses.size();
+  const std::size_t image_bytes = 3 * static_cast<std::size_t>(spec.width) * spec.height;
+  auto render_range = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      render_into(world, camera_poses[k], spec, ignore_handles[k], mask,
+                  rgb_out + k * image_bytes, nullptr);
+    }
+  };
+  // Images are dealt out in contiguous runs; the calling thread renders the first run.
+  const std::size_t workers =
+      std::min<std::size_t>(static_cast<std::size_t>(threads), count / kImagesPerThread);
+  if (workers <= 1) {
+    render_range(0, count);
+    return;
+  }
+  std::vector<std::thread> helpers;
+  helpers.reserve(workers - 1);
+  std::vector<std::exception_ptr> errors(workers);
+  for (std::size_t w = 1; w < workers; ++w) {
+    helpers.emplace_back([&, w] {
+      try {
+        render_range(w * count / workers, (w + 1) * count / workers);
+      } catch (...) {
+        errors[w] = std::current_exception();
+      }
+    });
+  }
+  try {
+    render_range(0, count / workers);
+  } catch (...) {
+    errors[0] = std::current_exception();
+  }
+  for (std::thread& helper : helpers) helper.join();
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
 }
 
 }  // namespace evc

@@ -147,38 +147,6 @@ def test_bad_indices_and_lost_bodies(world, make_swarm):
         swarm.step(DT, still(swarm))
 
 
-def timed_swarm(count, spacing_m=0.3):
-    world = _core.CollisionWorld()
-    side = math.ceil(math.sqrt(count))
-    half = side * spacing_m / 2
-    add_arena(world, half)
-    world.add_box(50, (half, half, 0.005), (0, 0, -0.005), IDENTITY, GREY, _core.GROUP_FLOOR)
-    swarm = _core.EpuckSwarm(world, _core.EpuckModel(), 3)
-    for i in range(count):
-        row, col = divmod(i, side)
-        swarm.add_robot(1000 + i, -half + spacing_m * (col + 0.5), -half + spacing_m * (row + 0.5),
-                        0.37 * i)
-    swarm.set_ir_noise(np.full((count, 8), 0.16), np.full((count, 8), 0.002),
-                       np.full((count, 8), 0.0005))
-    return world, swarm
-
-
-def test_cost_per_step(capsys):
-    """Not an assertion: prints what a step costs, so the lead can budget the step loop."""
-    lines = []
-    for count in (100, 1000):
-        world, swarm = timed_swarm(count)
-        commands = np.random.default_rng(0).uniform(-6.0, 6.0, (count, 2))
-        swarm.step(DT, commands)
-        start = time.perf_counter()
-        for _ in range(20):
-            swarm.step(DT, commands)
-        lines.append(f"EpuckSwarm.step, N={count} in a {math.ceil(math.sqrt(count)) * 0.3:.1f} m "
-                     f"arena: {(time.perf_counter() - start) / 20 * 1e3:.2f} ms/step")
-    with capsys.disabled():
-        print("\n" + "\n".join(lines))
-
-
 HOSTILE = [math.nan, math.inf, -math.inf, 1e308, -1e308, -0.0, 5e-324]
 
 

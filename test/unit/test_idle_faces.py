@@ -10,7 +10,6 @@ from sensor_msgs.msg import Range
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
-from epuck_vrep_compat.ros.epuck import camera as camera_module
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
@@ -74,10 +73,12 @@ def faces(monkeypatch):
         monkeypatch.setattr(cls, "pack", lambda self, *a, _o=original, _k=kind, **kw:
                             (work.append(_k), _o(self, *a, **kw))[1])
 
-    def render(camera, secs, nsecs):
-        work.append(("render", camera.frame))
-        return b""
-    monkeypatch.setattr(camera_module._Camera, "render", render)
+    render_cameras = sim.render_cameras
+
+    def render(robot_names, *args, **kwargs):
+        work.append(("render", tuple(robot_names)))
+        return render_cameras(robot_names, *args, **kwargs)
+    monkeypatch.setattr(sim, "render_cameras", render)
     epucks = EpuckFace(PROFILE, sim, "si", "ros", True)
     tf = TfFace(PROFILE, sim, StaticTransforms(Ignored()))
     cameras = CameraFace(PROFILE, sim)
@@ -116,7 +117,8 @@ def test_one_subscriber_gets_only_its_topics_work(faces):
     camera.image.impl.add_connection(Subscriber("/viewer"))
     batch = step_once(sim, (epucks, tf, cameras), tf_pub)
     # the ranges of all robots packed once (one array op), one camera rendered, no /tf
-    assert sorted(work, key=str) == sorted(["MessageBatch", ("render", camera.frame)], key=str)
+    assert sorted(work, key=str) == sorted(["MessageBatch", ("render", (sim.robot_names[0],))],
+                                           key=str)
     # both go out through the step batch (the camera's image too, off the interpreter); the
     # ranges as slices of their packed step, straight to the writer
     assert set(batch._pending) == {camera.image.impl}

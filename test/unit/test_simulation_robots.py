@@ -174,3 +174,21 @@ def test_a_full_arena_refuses_a_robot_and_changes_nothing():
     assert sim.size == 0 and sim.swarm.poses.shape == (0, 3)
     sim.step()                                              # an empty scene still steps
     assert sim.add_robot().root.name == "ePuck#0"
+
+
+def test_cameras_rendered_together_equal_each_camera_rendered_alone():
+    sim = arena_sim(6)
+    for k, name in enumerate(sim.robot_names):
+        sim.set_wheel_speeds(name, 2.0 + k, 4.0 - k)         # each robot turns its own way
+    for _ in range(30):
+        sim.step()
+    sim.remove_robot("ePuck2")                               # rows shift: names still find them
+    sim.add_robot((0.2, -0.2), 1.0)
+    names = sim.robot_names[::-1]
+    images = sim.render_cameras(names, threads=2)
+    assert images.shape == (len(names), sim.camera.height, sim.camera.width, 3)
+    for name, image in zip(names, images):
+        parts = sim.robots[sim.robot_index(name)]
+        rgb, _depth = parts.parts["camera"].properties["vision"].render()
+        assert np.array_equal(image, rgb), name
+    assert sim.render_cameras([]).shape == (0, sim.camera.height, sim.camera.width, 3)

@@ -128,6 +128,11 @@ class VisionSensor:
         position, quat = self._sim.registry.world_pose(self.handle)
         return position, quat_mul(quat, VISION_TO_CAMERA)
 
+    @property
+    def ignore_handle(self) -> int:
+        """The object the camera does not see (the robot carrying it), or -1."""
+        return self._ignore
+
     def render(self):
         """(rgb uint8 (H, W, 3) top row first, depth float32 (H, W) metres along the axis)."""
         position, quat = self.camera_pose()

@@ -55,10 +55,10 @@ class CameraFace(Face):
         names_now = self.sim.robot_names
         for name in [n for n in self._cameras if n not in names_now]:
             self._cameras.pop(name).close()
-        for name, robot in zip(names_now, self.sim.robots):
+        for name in names_now:
             if name not in self._cameras:
-                self._cameras[name] = _Camera(self.profile, self.sim.camera, name, robot,
-                                              self._watch, gray=self.mode == "gray")
+                self._cameras[name] = _Camera(self.profile, self.sim.camera, name, self._watch,
+                                              gray=self.mode == "gray")
         self.watched_stale = True
 
     def publish(self, step: Step):
@@ -68,35 +68,42 @@ class CameraFace(Face):
             self._watched = [c for c in self._cameras.values()
                              if c.image.impl is not None and c.image.impl.has_connections()]
         now = self.sim.time_s
-        for camera in self._watched:
-            if now + 1e-9 < camera.next_due_s or not camera.image.impl.has_connections():
-                continue
+        due = [c for c in self._watched
+               if now + 1e-9 >= c.next_due_s and c.image.impl.has_connections()]
+        if not due:
+            return
+        images = self.sim.render_cameras([c.robot for c in due])
+        if self.mode == "gray":
+            images = _luma(images)
+        for camera, image in zip(due, images):
             camera.next_due_s = now + self._period_s
-            step.batch.add_frame(camera.image, camera.render(step.secs, step.nsecs))
+            step.batch.add_frame(camera.image, camera.frame(step.secs, step.nsecs, image))
+
+
+def _luma(rgb: np.ndarray) -> np.ndarray:
+    """ITU-R BT.601 luma of rgb8 images (..., 3), rounded, as mono8."""
+    return np.rint(rgb @ np.array([0.299, 0.587, 0.114])).clip(0, 255).astype(np.uint8)
 
 
 class _Camera:
     """One robot's camera: its vision sensor, image topic and latched camera_info."""
 
-    def __init__(self, profile, spec, name, robot, watch, gray=False):
-        self.sensor = robot.parts["camera"].properties["vision"]
-        self.frame = profile.frame(name, names.CAMERA_FRAME)
+    def __init__(self, profile, spec, name, watch, gray=False):
+        self.robot = name
+        frame_id = profile.frame(name, names.CAMERA_FRAME)
         self.next_due_s = 0.0
-        self.gray = gray
-        self._wire = ImageWire(self.frame, spec.width, spec.height, "mono8" if gray else "rgb8")
+        self._wire = ImageWire(frame_id, spec.width, spec.height, "mono8" if gray else "rgb8")
         self.image = synchronous_publisher(profile.topic(name, "camera"), Image,
                                            subscriber_listener=watch)
         self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
                                     queue_size=1, latch=True)
         self.info.publish(camera_info(spec.width, spec.height, spec.vertical_fov_rad,
-                                      self.frame))
+                                      frame_id))
 
-    def render(self, secs: int, nsecs: int) -> bytes:
-        """The image as a TCPROS frame, laid out once (``wire.ImageWire``)."""
-        rgb, _depth = self.sensor.render()
-        if self.gray:
-            rgb = np.rint(rgb @ np.array([0.299, 0.587, 0.114])).clip(0, 255).astype(np.uint8)
-        return self._wire.frame(secs, nsecs, np.ascontiguousarray(rgb, dtype=np.uint8).data)
+    def frame(self, secs: int, nsecs: int, image: np.ndarray) -> bytes:
+        """The image (rgb8 or mono8 pixels, top row first) as a TCPROS frame, laid out once
+        (``wire.ImageWire``)."""
+        return self._wire.frame(secs, nsecs, np.ascontiguousarray(image, dtype=np.uint8).data)
 
     def close(self):
         self.image.unregister()
