@@ -31,12 +31,19 @@
 
 namespace evc {
 
-/// What one flush did to one connection (only connections where something happened).
+/// What went wrong for one connection in one flush (only connections where something did; the
+/// bytes sent are counted apart, BatchWriter::take_sent_bytes, so that a flush of thousands of
+/// connections reports nothing when all is well).
 struct WriterReport {
   int id = -1;                      ///< the connection's id (from BatchWriter::open)
-  std::size_t sent_bytes = 0;       ///< bytes the socket took during this flush
   std::size_t dropped_batches = 0;  ///< whole batches dropped from its backlog
   bool failed = false;              ///< the socket failed (not "full"): the caller drops it
+};
+
+/// Bytes one connection's socket took since they were last taken.
+struct SentBytes {
+  int id = -1;
+  std::size_t bytes = 0;
 };
 
 /// Non-blocking, batched writes to many sockets with bounded per-connection backlogs.
@@ -75,6 +82,9 @@ class BatchWriter {
   /// The reports of the flushes the writer's thread finished since the last call; with
   /// wait, first waits until every requested flush is done.
   std::vector<WriterReport> take_reports(bool wait);
+  /// The bytes each open connection's socket took since the last call (connections that took
+  /// none are left out); waits for a flush under way.
+  std::vector<SentBytes> take_sent_bytes();
 
   std::size_t backlog_bytes() const;  ///< bytes waiting in every backlog
   std::size_t connection_count() const;
@@ -88,11 +98,12 @@ class BatchWriter {
     std::size_t head_sent = 0;        ///< bytes of the head already sent
     std::size_t size = 0;             ///< unsent bytes in batches
     bool queued = false;              ///< has work in this flush
+    std::size_t sent_untaken = 0;     ///< bytes sent since take_sent_bytes() last looked
   };
 
   std::vector<WriterReport> flush_locked();
   void take_incoming();
-  void send_waiting(Connection& c, WriterReport& report);
+  std::size_t send_waiting(Connection& c, WriterReport& report);  // returns the bytes sent
   std::size_t trim(Connection& c);
   void run_worker();
 

@@ -21,7 +21,7 @@ namespace {
 py::list report_list(const std::vector<WriterReport>& reports) {
   py::list out;
   for (const WriterReport& r : reports) {
-    out.append(py::make_tuple(r.id, r.sent_bytes, r.dropped_batches, r.failed));
+    out.append(py::make_tuple(r.id, r.dropped_batches, r.failed));
   }
   return out;
 }
@@ -96,8 +96,8 @@ void bind_wire(py::module_& m) {
             return report_list(reports);
           },
           "Send what every socket takes now, without blocking and without the GIL; returns "
-          "[(id, sent_bytes, dropped_batches, failed)] for the connections where something "
-          "happened.")
+          "[(id, dropped_batches, failed)] for the connections where something went wrong "
+          "(bytes sent: take_sent_bytes).")
       .def("request_flush", &BatchWriter::request_flush,
            "Ask the writer's own thread (started on first use) to flush what is queued now; "
            "returns at once.")
@@ -114,6 +114,20 @@ void bind_wire(py::module_& m) {
           "wait"_a,
           "The reports of the flushes the writer's thread finished since the last call, as "
           "flush() returns them; with wait, after every requested flush is done.")
+      .def(
+          "take_sent_bytes",
+          [](BatchWriter& writer) {
+            std::vector<SentBytes> sent;
+            {
+              py::gil_scoped_release released;
+              sent = writer.take_sent_bytes();
+            }
+            py::list out;
+            for (const SentBytes& s : sent) out.append(py::make_tuple(s.id, s.bytes));
+            return out;
+          },
+          "[(id, bytes)]: what each open connection's socket took since the last call "
+          "(connections that took nothing are left out).")
       .def_property_readonly("backlog_bytes", &BatchWriter::backlog_bytes,
                              "Bytes waiting in every backlog.")
       .def_property_readonly("connection_count", &BatchWriter::connection_count,

@@ -148,17 +148,18 @@ std::vector<WriterReport> BatchWriter::flush_locked() {
     Connection& c = it->second;
     WriterReport report;
     report.id = id;
-    send_waiting(c, report);
+    c.sent_untaken += send_waiting(c, report);
     if (!report.failed) report.dropped_batches = trim(c);
     c.queued = !c.batches.empty();
     if (c.queued) still_waiting.push_back(id);
-    if (report.sent_bytes || report.dropped_batches || report.failed) reports.push_back(report);
+    if (report.dropped_batches || report.failed) reports.push_back(report);
   }
   to_flush_.swap(still_waiting);
   return reports;
 }
 
-void BatchWriter::send_waiting(Connection& c, WriterReport& report) {
+std::size_t BatchWriter::send_waiting(Connection& c, WriterReport& report) {
+  std::size_t total = 0;
   while (!c.batches.empty()) {
     iovec iov[kMaxIov];
     int count = 0;
@@ -179,22 +180,23 @@ void BatchWriter::send_waiting(Connection& c, WriterReport& report) {
         c.head_sent = 0;
         c.size = 0;
       }
-      return;
+      return total;
     }
     std::size_t left = static_cast<std::size_t>(sent);
-    report.sent_bytes += left;
+    total += left;
     c.size -= left;
     while (left > 0) {
       const std::size_t head_left = c.batches.front().size() - c.head_sent;
       if (left < head_left) {
         c.head_sent += left;
-        return;  // the socket is full
+        return total;  // the socket is full
       }
       left -= head_left;
       c.batches.pop_front();
       c.head_sent = 0;
     }
   }
+  return total;
 }
 
 std::size_t BatchWriter::trim(Connection& c) {
@@ -206,6 +208,17 @@ std::size_t BatchWriter::trim(Connection& c) {
     ++dropped;
   }
   return dropped;
+}
+
+std::vector<SentBytes> BatchWriter::take_sent_bytes() {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  std::vector<SentBytes> out;
+  for (auto& entry : connections_) {
+    if (entry.second.sent_untaken == 0) continue;
+    out.push_back({entry.first, entry.second.sent_untaken});
+    entry.second.sent_untaken = 0;
+  }
+  return out;
 }
 
 std::size_t BatchWriter::connection_count() const {

@@ -10,6 +10,7 @@ from sensor_msgs.msg import Range
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.ros.epuck import camera as camera_module
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
@@ -19,6 +20,7 @@ from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.scene.scene_file import load_scene
+from epuck_vrep_compat.sim.cameras import render_robot_cameras
 
 REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 PROFILE = PROFILES["vrep"]
@@ -67,18 +69,17 @@ def faces(monkeypatch):
     sim = build_simulation(load_scene(os.path.join(REPO, "test", "worlds", "empty.yaml")),
                            [PROFILE.robot_name(i) for i in range(2)])
     work = []
-    for kind in ("MessageBatch", "TransformBatchWire"):      # every per-step packing
+    for kind, method in (("MessageBatch", "pack_view"),           # every per-step packing
+                         ("TransformBatchWire", "frame")):
         cls = getattr(wire, kind)
-        original = cls.pack
-        monkeypatch.setattr(cls, "pack", lambda self, *a, _o=original, _k=kind, **kw:
+        original = getattr(cls, method)
+        monkeypatch.setattr(cls, method, lambda self, *a, _o=original, _k=kind, **kw:
                             (work.append(_k), _o(self, *a, **kw))[1])
 
-    render_cameras = sim.render_cameras
-
-    def render(robot_names, *args, **kwargs):
+    def render(simulation, robot_names, *args, **kwargs):
         work.append(("render", tuple(robot_names)))
-        return render_cameras(robot_names, *args, **kwargs)
-    monkeypatch.setattr(sim, "render_cameras", render)
+        return render_robot_cameras(simulation, robot_names, *args, **kwargs)
+    monkeypatch.setattr(camera_module, "render_robot_cameras", render)
     epucks = EpuckFace(PROFILE, sim, "si", "ros", True)
     tf = TfFace(PROFILE, sim, StaticTransforms(Ignored()))
     cameras = CameraFace(PROFILE, sim)

@@ -9,6 +9,7 @@ import pytest
 from epuck_vrep_compat.ros.epuck.names import PROFILES
 from epuck_vrep_compat.scene.epuck_model import next_robot_number, suffix_number
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
+from epuck_vrep_compat.sim.cameras import render_robot_cameras
 from epuck_vrep_compat.sim.simulation import Simulation
 
 WORLDS = os.path.join(os.path.dirname(__file__), "..", "..", "worlds")
@@ -185,10 +186,10 @@ def test_cameras_rendered_together_equal_each_camera_rendered_alone():
     sim.remove_robot("ePuck2")                               # rows shift: names still find them
     sim.add_robot((0.2, -0.2), 1.0)
     names = sim.robot_names[::-1]
-    images = sim.render_cameras(names, threads=2)
+    images = render_robot_cameras(sim, names, threads=2)
     assert images.shape == (len(names), sim.camera.height, sim.camera.width, 3)
     for name, image in zip(names, images):
         parts = sim.robots[sim.robot_index(name)]
         rgb, _depth = parts.parts["camera"].properties["vision"].render()
         assert np.array_equal(image, rgb), name
-    assert sim.render_cameras([]).shape == (0, sim.camera.height, sim.camera.width, 3)
+    assert render_robot_cameras(sim, []).shape == (0, sim.camera.height, sim.camera.width, 3)

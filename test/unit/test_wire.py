@@ -36,6 +36,12 @@ def test_range_batch_matches_genpy():
                            min_range=0.0015, max_range=0.05, range=value), 12, 500000000, frame)
         assert batch.frame(data, i) == _framed(msg)
     assert batch.msg_class._md5sum == Range._md5sum
+    # the view is the batch's own buffer, rewritten by the next pack; pack's bytes stay
+    view = batch.pack_view(12, 500000000, range=values)
+    assert bytes(view) == data and not view.flags.writeable
+    batch.pack_view(13, 0, range=values[::-1])
+    assert bytes(view) != data
+    assert batch.pack(12, 500000000, range=values) == data
 
 
 def test_imu_batch_matches_genpy_and_rep_145():
@@ -99,9 +105,11 @@ def test_transform_batch_matches_genpy():
         (ts.transform.rotation.x, ts.transform.rotation.y, ts.transform.rotation.z,
          ts.transform.rotation.w) = qi
         msg.transforms.append(ts)
-    packed = wire.TransformBatchWire(frames).pack(42, 50000000, t, q)
+    layout = wire.TransformBatchWire(frames)
+    packed = layout.pack(42, 50000000, t, q)
     assert packed._md5sum == TFMessage._md5sum
     assert _framed(packed)[4:] == _framed(msg)[4:]
+    assert layout.frame(42, 50000000, t, q) == _framed(msg)
 
 
 @pytest.mark.parametrize("encoding,channels", [("rgb8", 3), ("mono8", 1)])

@@ -22,14 +22,13 @@ from typing import Callable, List, Sequence
 import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
-from epuck_vrep_compat.devices.components import (
-    VISION_TO_CAMERA, CameraSpec, ConeProximity, VisionSensor, WheelJoint)
+from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import (
     RobotParts, default_model, next_robot_number, register_epuck)
 from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
-from epuck_vrep_compat.scene.transforms import compose, quat_from_yaw, quat_mul, yaw_of
+from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
 from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.sim.leds import RobotLeds
@@ -208,27 +207,6 @@ class Simulation:
     def robot_index(self, name: str) -> int:
         """Index of a robot by name; -1 when there is no such robot."""
         return self._index_by_name.get(name, -1)
-
-    def render_cameras(self, names: Sequence[str], threads: int = 1) -> np.ndarray:
-        """The colour images (K, H, W, 3) uint8 of the named robots' cameras, each equal to its
-        ``VisionSensor.render``, in one call of the core's renderer (without the interpreter
-        lock, on up to ``threads`` threads). The cameras' poses are composed for all robots at
-        once, in the same arithmetic as the registry's, from the robots' poses and each
-        camera's mount on its robot (a robot's parts are rigid: :meth:`move_object`)."""
-        rows = [self._index_by_name[n] for n in names]
-        spec = self.camera
-        if not rows:
-            return np.zeros((0, spec.height, spec.width, 3), np.uint8)
-        mounts = [self.robots[r].parts["camera"] for r in rows]
-        x, y, yaw = self._poses[rows].T
-        root_position = np.column_stack((x, y, np.zeros(len(rows))))
-        position, quat = compose(root_position, quat_from_yaw(yaw),
-                                 np.array([m.local_position for m in mounts]),
-                                 np.array([m.local_quat for m in mounts]))
-        ignore = [m.properties["vision"].ignore_handle for m in mounts]
-        return self.world.render_rgb_batch(position, quat_mul(quat, VISION_TO_CAMERA),
-                                           spec.width, spec.height, spec.vertical_fov_rad,
-                                           spec.near_m, spec.far_m, ignore, threads=threads)
 
     def set_wheel_speeds(self, name: str, left_rad_s: float, right_rad_s: float) -> bool:
         """Command a robot's wheels; non-finite values are refused (returns False). A robot

@@ -17,6 +17,7 @@ from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 from epuck_vrep_compat.ros.transport.wire import ImageWire
+from epuck_vrep_compat.sim.cameras import render_robot_cameras
 
 
 class _Watch(rospy.SubscribeListener):
@@ -72,7 +73,7 @@ class CameraFace(Face):
                if now + 1e-9 >= c.next_due_s and c.image.impl.has_connections()]
         if not due:
             return
-        images = self.sim.render_cameras([c.robot for c in due])
+        images = render_robot_cameras(self.sim, [c.robot for c in due])
         if self.mode == "gray":
             images = _luma(images)
         for camera, image in zip(due, images):

@@ -192,23 +192,25 @@ class EpuckFace(Face):
         self._scanned = [(i, robot) for i, robot in enumerate(self.robots)
                          if robot.scan is not None and robot.scan.impl.connections]
 
-    def _pack(self, kind, secs, nsecs) -> bytes:
+    def _pack(self, kind, secs, nsecs) -> np.ndarray:
+        """This step's messages of one kind for all robots, in the kind's own buffer (valid
+        until its next pack; the step batch copies the slices at once)."""
         swarm = self.sim.swarm
         if kind == "range":
             ranges = np.clip(swarm.ranges, self._min_range, self._max_range)
-            return self._range_batch.pack(secs, nsecs, range=ranges)
+            return self._range_batch.pack_view(secs, nsecs, range=ranges)
         if kind == "imu":
             gyro = swarm.gyro if self.profile.has_gyro else np.zeros((swarm.size, 3))
-            return self._imu_batch.pack(secs, nsecs, accel=swarm.accel * self.gravity_sign,
+            return self._imu_batch.pack_view(secs, nsecs, accel=swarm.accel * self.gravity_sign,
                                         gyro=gyro)
         if kind == "ground_truth":
             poses, velocities = swarm.poses, swarm.velocities
             yaw = poses[:, 2]
             forward = velocities[:, 0] * np.cos(yaw) + velocities[:, 1] * np.sin(yaw)
-            return self._odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
+            return self._odom_batch.pack_view(secs, nsecs, **wire.planar_odometry_values(
                 poses[:, 0], poses[:, 1], yaw, forward, velocities[:, 2]))
         odometry = swarm.odometry
-        return self._wheel_odom_batch.pack(secs, nsecs, **wire.planar_odometry_values(
+        return self._wheel_odom_batch.pack_view(secs, nsecs, **wire.planar_odometry_values(
             *(odometry[:, k] for k in range(5))))
 
     def _scan(self, robot, secs, nsecs, ranges):

@@ -88,15 +88,18 @@ class TfFace(Face):
 
     def publish(self, step: Step):
         """This step's transforms on ``/tf``, when someone listens."""
-        if step.batch.wanted(step.tf):
-            transforms = self.message(step.secs, step.nsecs)
-            if transforms is not None:
-                step.batch.add(step.tf, transforms)
+        if step.batch.wanted(step.tf) and self.frames:
+            step.batch.add_frame(step.tf, self._wire.frame(step.secs, step.nsecs,
+                                                           *self._moving()))
 
     def message(self, secs: int, nsecs: int):
         """This step's moving transforms of every robot; None while there is no robot."""
         if not self.frames:
             return None
+        return self._wire.pack(secs, nsecs, *self._moving())
+
+    def _moving(self):
+        """(translations (M, 3), rotations (M, 4)) of this step's moving frames."""
         swarm = self._sim.swarm
         if self._profile.odom_tf_from_odometry:
             planar = swarm.odometry[:, :3]
@@ -108,4 +111,4 @@ class TfFace(Face):
         t[self._base_rows, 1] = planar[:, 1]
         r[self._base_rows] = quat_from_yaw(planar[:, 2])
         r[self._wheel_rows] = quat_from_axis_angle((0, 1, 0), swarm.wheel_angles)
-        return self._wire.pack(secs, nsecs, t, r)
+        return t, r
