@@ -82,9 +82,10 @@ class BatchWriter {
   /// The reports of the flushes the writer's thread finished since the last call; with
   /// wait, first waits until every requested flush is done.
   std::vector<WriterReport> take_reports(bool wait);
-  /// The bytes each open connection's socket took since the last call (connections that took
-  /// none are left out); waits for a flush under way.
-  std::vector<SentBytes> take_sent_bytes();
+  /// The bytes each open connection's socket took since the last call that returned them
+  /// (connections that took none are left out). With wait, it waits for a flush under way;
+  /// without, it returns nothing during one (the bytes are kept for the next call).
+  std::vector<SentBytes> take_sent_bytes(bool wait);
 
   std::size_t backlog_bytes() const;  ///< bytes waiting in every backlog
   std::size_t connection_count() const;

@@ -116,18 +116,20 @@ void bind_wire(py::module_& m) {
           "flush() returns them; with wait, after every requested flush is done.")
       .def(
           "take_sent_bytes",
-          [](BatchWriter& writer) {
+          [](BatchWriter& writer, bool wait) {
             std::vector<SentBytes> sent;
             {
               py::gil_scoped_release released;
-              sent = writer.take_sent_bytes();
+              sent = writer.take_sent_bytes(wait);
             }
             py::list out;
             for (const SentBytes& s : sent) out.append(py::make_tuple(s.id, s.bytes));
             return out;
           },
-          "[(id, bytes)]: what each open connection's socket took since the last call "
-          "(connections that took nothing are left out).")
+          "wait"_a = true,
+          "[(id, bytes)]: what each open connection's socket took since the last call that "
+          "returned them (connections that took nothing are left out). Without wait, nothing "
+          "while a flush is under way (those bytes come next time).")
       .def_property_readonly("backlog_bytes", &BatchWriter::backlog_bytes,
                              "Bytes waiting in every backlog.")
       .def_property_readonly("connection_count", &BatchWriter::connection_count,

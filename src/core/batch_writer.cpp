@@ -210,9 +210,14 @@ std::size_t BatchWriter::trim(Connection& c) {
   return dropped;
 }
 
-std::vector<SentBytes> BatchWriter::take_sent_bytes() {
-  std::lock_guard<std::mutex> lock(state_mutex_);
+std::vector<SentBytes> BatchWriter::take_sent_bytes(bool wait) {
+  std::unique_lock<std::mutex> lock(state_mutex_, std::defer_lock);
   std::vector<SentBytes> out;
+  if (wait) {
+    lock.lock();
+  } else if (!lock.try_lock()) {
+    return out;  // a flush holds the state: its bytes are counted next time
+  }
   for (auto& entry : connections_) {
     if (entry.second.sent_untaken == 0) continue;
     out.push_back({entry.first, entry.second.sent_untaken});

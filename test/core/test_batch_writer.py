@@ -69,6 +69,23 @@ def test_a_reader_that_keeps_up_gets_the_same_bytes_in_order(pair):
     assert writer.backlog_bytes == 0 and writer.take_sent_bytes() == []
 
 
+def test_sent_bytes_without_waiting_are_counted_once(pair):
+    """take_sent_bytes(wait=False), which the step loop calls so as never to wait for the
+    writer's thread, returns what was sent when no flush holds the writer, and only once."""
+    sender, reader = pair
+    writer = _core.BatchWriter(1 << 20)
+    wid = writer.open(sender.fileno())
+    total = 0
+    for seq in range(20):
+        data = batch(seq, 100 + seq)
+        writer.queue(wid, data)
+        total += len(data)
+        assert writer.flush() == []
+        read_all(reader)
+    assert writer.take_sent_bytes(False) == [(wid, total)]
+    assert writer.take_sent_bytes(False) == [] and writer.take_sent_bytes(True) == []
+
+
 def test_a_stalled_reader_never_blocks_and_loses_only_whole_batches(pair):
     sender, reader = pair
     cap, size = 100000, 10004

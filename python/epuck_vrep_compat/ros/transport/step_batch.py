@@ -157,7 +157,7 @@ class StepBatch:
         if now - self._last_scan >= _SCAN_PERIOD_S:
             self._last_scan = now
             self._forget_gone()
-            self._count_sent()
+            self._count_sent(wait=False)     # not while the writer's thread flushes
         if self._background:
             writer.request_flush()
             self._apply(writer.take_reports(False))     # of the flushes done meanwhile
@@ -168,14 +168,14 @@ class StepBatch:
         """Wait until the writer's thread has sent every flush requested so far (and count
         what it sent)."""
         self._apply(self._writer.take_reports(True))
-        self._count_sent()
+        self._count_sent(wait=True)
 
-    def _count_sent(self):
+    def _count_sent(self, wait: bool):
         """Add what the writer sent since the last count to each connection's ``stat_bytes``
         (rospy's bus statistics): every ``_SCAN_PERIOD_S``, not every flush, which at 14 000
         connections would cost the step loop a Python loop over all of them."""
         by_id = self._by_id
-        for writer_id, sent in self._writer.take_sent_bytes():
+        for writer_id, sent in self._writer.take_sent_bytes(wait):
             connection = by_id.get(writer_id)
             if connection is not None:
                 connection.stat_bytes += sent
