@@ -44,6 +44,7 @@ import threading
 import time
 import xmlrpc.client
 
+import numpy as np
 import rosgraph
 import rospy
 from geometry_msgs.msg import Twist
@@ -68,10 +69,22 @@ def free_port():
         return s.getsockname()[1]
 
 
-def scene_file(n, cell_m):
-    side = cell_m * math.ceil(math.sqrt(n)) + ARENA_MARGIN_M
+def scene_file(n, cell_m, seed=1):
+    """The arena Enki C++ gets (``enki_swarm.cpp``): square, walled, robot i at the centre of
+    grid cell (i mod per_row, i div per_row), headings uniform in [-pi, pi) from a seeded
+    generator. Without the starts, our simulator would pack the robots at 11.4 cm spacing into
+    one corner (its default placement), a far denser and costlier arena than the peer's."""
+    per_row = math.ceil(math.sqrt(n))
+    side = cell_m * per_row + ARENA_MARGIN_M
+    corner = -side / 2 + ARENA_MARGIN_M / 2
+    headings = np.random.default_rng(seed).uniform(-math.pi, math.pi, n)
+    lines = [f"arena:\n  size_m: [{side}, {side}]\nrobots:\n"]
+    for i in range(n):
+        row, column = divmod(i, per_row)
+        lines.append(f"  - {{position_m: [{corner + (column + 0.5) * cell_m:.6f}, "
+                     f"{corner + (row + 0.5) * cell_m:.6f}], yaw_rad: {headings[i]:.6f}}}\n")
     f = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
-    f.write(f"arena:\n  size_m: [{side}, {side}]\n")
+    f.write("".join(lines))
     f.close()
     return f.name
 
