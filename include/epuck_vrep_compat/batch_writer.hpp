@@ -4,8 +4,11 @@
 // the bytes of one or more whole message batches per flush. A flush never blocks: each
 // connection's socket takes what it accepts now (one sendmsg over every waiting batch); the
 // rest waits in that connection's backlog, retried at the next flush. When a backlog holds
-// more than max_backlog_bytes, its oldest whole batches after the head are dropped (never a
-// partly sent one), so a stalled reader loses whole messages and never blocks the others.
+// more than max_backlog_bytes, or more than max_backlog_batches batches, its oldest whole
+// batches after the head are dropped (never a partly sent one), so a stalled reader loses whole
+// messages and never blocks the others. The batch limit bounds what a reader that keeps up
+// only in part costs: thousands of small-message connections each a little behind would
+// otherwise each hold max_backlog_bytes (gigabytes in all), and data ever older.
 //
 // A connection is opened on its own duplicate of the socket descriptor (dup; closed by close(),
 // so a descriptor the caller closes and the system reuses never receives stale bytes), or on the
@@ -49,7 +52,10 @@ struct SentBytes {
 /// Non-blocking, batched writes to many sockets with bounded per-connection backlogs.
 class BatchWriter {
  public:
-  explicit BatchWriter(std::size_t max_backlog_bytes);
+  /// A backlog keeps at most max_backlog_bytes and at most max_backlog_batches batches (each
+  /// at least 1; the head, perhaps partly sent, is always kept).
+  explicit BatchWriter(std::size_t max_backlog_bytes,
+                       std::size_t max_backlog_batches = static_cast<std::size_t>(-1));
   ~BatchWriter();
   BatchWriter(const BatchWriter&) = delete;
   BatchWriter& operator=(const BatchWriter&) = delete;
@@ -90,6 +96,7 @@ class BatchWriter {
   std::size_t backlog_bytes() const;  ///< bytes waiting in every backlog
   std::size_t connection_count() const;
   std::size_t max_backlog_bytes() const { return max_backlog_bytes_; }
+  std::size_t max_backlog_batches() const { return max_backlog_batches_; }
 
  private:
   struct Connection {
@@ -109,6 +116,7 @@ class BatchWriter {
   void run_worker();
 
   std::size_t max_backlog_bytes_;
+  std::size_t max_backlog_batches_;
   mutable std::mutex state_mutex_;  ///< connections_, to_flush_: held for a whole flush
   std::unordered_map<int, Connection> connections_;
   int next_id_ = 1;

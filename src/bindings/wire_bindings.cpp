@@ -41,8 +41,13 @@ void bind_wire(py::module_& m) {
   });
   py::class_<BatchWriter>(m, "BatchWriter",
                           "Non-blocking batched writes to many sockets, each with a backlog "
-                          "bounded by max_backlog_bytes (oldest whole batches dropped).")
-      .def(py::init<std::size_t>(), "max_backlog_bytes"_a)
+                          "bounded by max_backlog_bytes and max_backlog_batches (oldest "
+                          "whole batches dropped).")
+      .def(py::init<std::size_t, std::size_t>(), "max_backlog_bytes"_a,
+           "max_backlog_batches"_a = static_cast<std::size_t>(-1),
+           "Each connection's backlog keeps at most max_backlog_bytes and max_backlog_batches "
+           "batches (ValueError for 0 batches); the oldest whole batches after the head go.")
+      .def_property_readonly("max_backlog_batches", &BatchWriter::max_backlog_batches)
       .def("open", &BatchWriter::open, "fd"_a, "own"_a = true,
            py::call_guard<py::gil_scoped_release>(),
            "Start writing to a socket descriptor, duplicated when own (OSError past the "

@@ -18,7 +18,12 @@ namespace {
 constexpr int kMaxIov = IOV_MAX < 1024 ? IOV_MAX : 1024;
 }
 
-BatchWriter::BatchWriter(std::size_t max_backlog_bytes) : max_backlog_bytes_(max_backlog_bytes) {}
+BatchWriter::BatchWriter(std::size_t max_backlog_bytes, std::size_t max_backlog_batches)
+    : max_backlog_bytes_(max_backlog_bytes), max_backlog_batches_(max_backlog_batches) {
+  if (max_backlog_batches_ == 0) {
+    throw std::invalid_argument("max_backlog_batches must be at least 1");
+  }
+}
 
 BatchWriter::~BatchWriter() {
   {
@@ -201,7 +206,8 @@ std::size_t BatchWriter::send_waiting(Connection& c, WriterReport& report) {
 
 std::size_t BatchWriter::trim(Connection& c) {
   std::size_t dropped = 0;
-  while (c.size > max_backlog_bytes_ && c.batches.size() > 1) {
+  while ((c.size > max_backlog_bytes_ || c.batches.size() > max_backlog_batches_) &&
+         c.batches.size() > 1) {
     auto second = std::next(c.batches.begin());
     c.size -= second->size();
     c.batches.erase(second);

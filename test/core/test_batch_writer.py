@@ -110,6 +110,49 @@ def test_a_stalled_reader_never_blocks_and_loses_only_whole_batches(pair):
     assert len(received) + dropped == 500 and dropped > 0
 
 
+def test_a_backlog_keeps_at_most_max_backlog_batches_however_small(pair):
+    """Small batches far under the byte cap: the batch limit alone bounds the backlog (head
+    plus the newest), and what the reader then gets is whole and in order."""
+    sender, reader = pair
+    limit, size = 8, 200
+    writer = _core.BatchWriter(1 << 30, limit)
+    assert writer.max_backlog_batches == limit
+    wid = writer.open(sender.fileno())
+    dropped, queued = 0, 0
+    while True:                                  # fill the socket, then stall it for long
+        writer.queue(wid, batch(queued, size))
+        queued += 1
+        for _id, lost, failed in writer.flush():
+            assert not failed
+            dropped += lost
+        if writer.backlog_bytes > 0:
+            break
+    for _ in range(200):
+        writer.queue(wid, batch(queued, size))
+        queued += 1
+        for _id, lost, failed in writer.flush():
+            assert not failed
+            dropped += lost
+        assert writer.backlog_bytes <= limit * (size + 4)   # framed: 4 + size bytes
+    assert dropped >= 200 - limit
+    stream = read_all(reader)
+    for _ in range(100):
+        writer.flush()
+        stream += read_all(reader)
+        if writer.backlog_bytes == 0:
+            break
+    received = sequence_numbers(stream)
+    assert received == sorted(received) and received[-1] == queued - 1
+    assert len(received) + dropped == queued
+    # the newest limit - 1 batches all survive, behind the head
+    assert received[-(limit - 1):] == list(range(queued - limit + 1, queued))
+
+
+def test_a_batch_limit_of_zero_is_refused():
+    with pytest.raises(ValueError, match="at least 1"):
+        _core.BatchWriter(1 << 20, 0)
+
+
 def test_a_closed_reader_is_reported_failed_and_closing_forgets_it(pair):
     sender, reader = pair
     writer = _core.BatchWriter(1 << 20)

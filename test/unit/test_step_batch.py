@@ -3,9 +3,12 @@ backlog stays bounded, whole messages arrive in order once the reader comes back
 reader's connection is dropped."""
 import socket
 import struct
+import time
+import types
 
 import pytest
 
+from epuck_vrep_compat.ros.transport import step_batch
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch
 
 FRAME = struct.Struct("<I")
@@ -109,6 +112,30 @@ def test_a_reader_that_stops_never_blocks_the_writer_and_loses_only_whole_batche
 
 
 @pytest.mark.parametrize("background", [False, True])
+def test_a_lagging_reader_of_small_messages_holds_at_most_the_batch_limit(pair, background):
+    """Messages far under the byte cap: the backlog holds at most ``max_backlog_batches``
+    batches (one per flush), so many such subscriptions cannot add up to gigabytes."""
+    writer, reader = pair
+    pub = FakePublisher(FakeImpl(FakeConnection(writer)))
+    batch = StepBatch(max_backlog_batches=5, background=background)
+    for seq in range(3000):                      # about 300 kB: fills the socket, then more
+        batch.add_frame(pub, message(seq, 100))
+        batch.flush()
+        batch.settle()
+        assert batch.backlog_bytes <= 5 * 104          # framed: 4 + 100 bytes
+    assert batch.backlog_bytes > 0
+    stream = read_all(reader)
+    for _ in range(100):
+        batch.flush()
+        batch.settle()
+        stream += read_all(reader)
+        if batch.backlog_bytes == 0:
+            break
+    received = frames(stream)
+    assert received == sorted(received) and received[-1] == 2999 and len(received) < 3000
+
+
+@pytest.mark.parametrize("background", [False, True])
 def test_a_fast_reader_gets_everything(pair, background):
     writer, reader = pair
     pub = FakePublisher(FakeImpl(FakeConnection(writer)))
@@ -175,3 +202,38 @@ def test_a_connection_closed_before_its_first_flush_is_dropped_and_the_batch_goe
     assert batch._writer.connection_count == 1
     writer.close()
     reader.close()
+
+
+def test_a_subscriber_lagging_on_many_topics_gets_one_warning_naming_them(monkeypatch):
+    """A subscriber that stops reading every topic (rosbag record -a at 1000 robots) is warned
+    about once per period, not once per topic; the line counts and names its topics."""
+    lines = []
+    monkeypatch.setattr("rospy.logwarn", lambda fmt, *args: lines.append(fmt % args))
+    pairs = [socket.socketpair() for _ in range(6)]
+    try:
+        pubs = []
+        for k, (writer, reader) in enumerate(pairs):
+            writer.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 16384)
+            reader.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16384)
+            impl = FakeImpl(FakeConnection(writer))
+            impl.resolved_name = f"/ePuck{k}/proximity0"
+            pubs.append(FakePublisher(impl))
+        batch = StepBatch(max_backlog_batches=2)
+        for seq in range(40):                    # 400 kB each: every socket fills, then drops
+            for pub in pubs:
+                batch.add_frame(pub, message(seq))
+            batch.flush()
+        assert len(lines) == 1, lines            # at the first drop, then not again in 10 s
+        assert lines[0].startswith("subscriber /slow_reader is not reading: 1 batches ")
+        later = types.SimpleNamespace(monotonic=lambda: time.monotonic() + 11.0)
+        monkeypatch.setattr(step_batch, "time", later)      # the period has passed
+        for pub in pubs:
+            batch.add_frame(pub, message(40))
+        batch.flush()
+        assert len(lines) == 2, lines            # the next names what lagged meanwhile
+        assert "on 6 topic(s) (/ePuck0/proximity0, /ePuck1/proximity0, /ePuck2/proximity0, ...)" \
+            in lines[1]
+    finally:
+        for writer, reader in pairs:
+            writer.close()
+            reader.close()

@@ -21,9 +21,13 @@ its own thread in the node (``background``), while Python prepares the next step
 ``sendall`` would stop the whole simulation as soon as one subscriber stops reading (a frozen
 rviz, a process stopped in a debugger) and its socket buffers fill. Each connection takes what
 its socket accepts now; the rest waits in that connection's backlog, retried at every flush, and
-a backlog above ``max_backlog_bytes`` drops its oldest whole batches (never a partly sent one),
-with a throttled warning: a stuck subscriber loses messages, like a full roscpp subscriber
-queue, and everyone else keeps the rates.
+a backlog above ``max_backlog_bytes`` or ``max_backlog_batches`` drops its oldest whole batches
+(never a partly sent one), with a throttled warning: a stuck subscriber loses messages, like a
+full roscpp subscriber queue, and everyone else keeps the rates. A batch is one flush's messages
+(one step's at real time, up to ``max_delay_s`` of wall time's flat out), so the default of 20
+batches lets a subscriber fall about a second behind, beyond what its socket buffers hold,
+before it loses the oldest; it also bounds memory when thousands of subscriptions each lag a
+little (at 1000 robots with everything subscribed, bytes alone let backlogs reach 2 GB).
 
 The writer writes on rospy's own descriptors (a duplicate each would double the node's
 descriptors, 14 001 connections at N = 1000 with everything subscribed, and starve rospy's
@@ -82,18 +86,20 @@ class StepBatch:
     """Messages of one or more steps, written to the subscribers together."""
 
     def __init__(self, max_delay_s: float = 0.05, max_backlog_bytes: int = 4 << 20,
-                 background: bool = False):
+                 max_backlog_batches: int = 20, background: bool = False):
         """``background``: the writer's own thread sends each flush while the caller goes on
         (the simulator node); otherwise :meth:`flush` sends before it returns."""
         self.max_delay_s = max_delay_s
         self._background = background
         self.max_backlog_bytes = max_backlog_bytes
+        self.max_backlog_batches = max_backlog_batches
         self._pending = {}            # publisher impl -> list of framed messages
-        self._writer = BatchWriter(max_backlog_bytes)
+        self._writer = BatchWriter(max_backlog_bytes, max_backlog_batches)
         self._ids = {}                # connection -> (writer id, publisher impl)
         self._by_id = {}              # writer id -> connection
-        self._dropped = {}            # (subscriber, topic) -> batches dropped so far
-        self._warned = {}             # (subscriber, topic) -> wall time of the last warning
+        self._dropped = {}            # subscriber -> batches dropped for it so far
+        self._lagging = {}            # subscriber -> its topics with drops since its warning
+        self._warned = {}             # subscriber -> wall time of its last warning
         self._last_flush = self._last_scan = time.monotonic()
 
     @staticmethod
@@ -232,11 +238,17 @@ class StepBatch:
                 self._forget(connection)
 
     def _warn_dropped(self, connection, impl, dropped):
-        key = (connection.endpoint_id, impl.resolved_name)
+        """One warning per subscriber every ``_WARN_PERIOD_S`` at most, naming its topics
+        that lost batches since the last one: a ``rosbag record -a`` falling behind at 1000
+        robots lags on thousands of topics, and a line per topic would flood the log."""
+        key = connection.endpoint_id
         self._dropped[key] = total = self._dropped.get(key, 0) + dropped
+        self._lagging.setdefault(key, set()).add(impl.resolved_name)
         now = time.monotonic()          # wall time: rospy's throttles follow /clock
         if now - self._warned.get(key, -_WARN_PERIOD_S) >= _WARN_PERIOD_S:
             self._warned[key] = now
-            rospy.logwarn("subscriber %s of %s is not reading: %d batches of messages dropped "
-                          "for it so far, %.1f MB waiting in all", key[0], key[1], total,
-                          self._writer.backlog_bytes / 1e6)
+            topics = sorted(self._lagging.pop(key))
+            shown = ", ".join(topics[:3]) + (", ..." if len(topics) > 3 else "")
+            rospy.logwarn("subscriber %s is not reading: %d batches of messages dropped for it "
+                          "so far, lately on %d topic(s) (%s); %.1f MB waiting in all", key,
+                          total, len(topics), shown, self._writer.backlog_bytes / 1e6)
