@@ -96,8 +96,10 @@ class _Camera:
         self._wire = ImageWire(frame_id, spec.width, spec.height, "mono8" if gray else "rgb8")
         self.image = synchronous_publisher(profile.topic(name, "camera"), Image,
                                            subscriber_listener=watch)
-        self.info = rospy.Publisher(profile.topic(name, "camera_info"), CameraInfo,
-                                    queue_size=1, latch=True)
+        # published once, here: latched and without rospy's queue, whose writer thread per
+        # connection would be a thousand idle threads at 1000 robots all subscribed
+        self.info = synchronous_publisher(profile.topic(name, "camera_info"), CameraInfo,
+                                          latch=True)
         self.info.publish(camera_info(spec.width, spec.height, spec.vertical_fov_rad,
                                       frame_id))
 
