@@ -30,6 +30,17 @@ def expected_pytest(tier):
     return sum(1 for line in out.splitlines() if "::" in line)
 
 
+def expected_core_cpp():
+    """{test binary name: number of TEST/TEST_F cases} of the core's gtest files
+    (test/core_cpp/*_test.cpp, built as core_cpp_<file name>)."""
+    expected = {}
+    for source in sorted(glob.glob(os.path.join(REPO, "test", "core_cpp", "*_test.cpp"))):
+        name = "core_cpp_" + os.path.basename(source)[:-len(".cpp")]
+        expected[name] = len(re.findall(r"^TEST(_F)?\(", open(source, encoding="utf-8").read(),
+                                        re.M))
+    return expected
+
+
 def expected_rostest():
     """{(launch file, test name): number of test cases} for every <test> of every .test file:
     the test_* methods of a python client, the TEST/TEST_F cases of a gtest client (source
@@ -69,6 +80,14 @@ def main(results):
             continue
         tests, fails, skipped = junit_counts(path)
         print(f"{tier}: {tests} run of {want} defined, {fails} failed, {skipped} skipped")
+        ok &= tests == want and fails == 0 and skipped == 0
+        passed += tests - fails - skipped
+        failed += fails + skipped + max(0, want - tests)
+    for name, want in expected_core_cpp().items():
+        path = os.path.join(results, f"gtest-{name}.xml")
+        tests, fails, skipped = junit_counts(path) if os.path.exists(path) else (0, 0, 0)
+        print(f"core_cpp {name}: {tests} run of {want} defined, {fails} failed, "
+              f"{skipped} skipped")
         ok &= tests == want and fails == 0 and skipped == 0
         passed += tests - fails - skipped
         failed += fails + skipped + max(0, want - tests)
