@@ -12,6 +12,7 @@ from sensor_msgs.msg import Imu, Range
 
 from epuck_vrep_compat import CollisionWorld, EpuckModel, EpuckSwarm
 from epuck_vrep_compat.fidelity.fit_noise import main
+from epuck_vrep_compat.fidelity.scenarios import SCENARIOS, robot_topics, robots_in
 from epuck_vrep_compat.sim.noise import IrNoise, NoiseSettings
 
 STEP_S = 0.05
@@ -25,7 +26,9 @@ TRUE = NoiseSettings(
 
 
 def make_bag(path, robot, imu_name, speed_m_s, steps, sign=1.0, cmd_topic="cmd_vel"):
-    """The core's readings of one robot in open space, as the profile's messages."""
+    """The core's readings of one robot in open space, as the profile's messages (``robot``
+    "/": at the root namespace)."""
+    prefix = "/" if robot == "/" else f"/{robot}/"
     swarm = EpuckSwarm(CollisionWorld(), EpuckModel(), 11)
     swarm.add_robot(10, 0.0, 0.0, 0.0)
     TRUE.apply(swarm, [robot])
@@ -36,17 +39,17 @@ def make_bag(path, robot, imu_name, speed_m_s, steps, sign=1.0, cmd_topic="cmd_v
             stamp = rospy.Time.from_sec((i + 1) * STEP_S)
             cmd = Twist()
             cmd.linear.x = v
-            bag.write(f"/{robot}/{cmd_topic}", cmd, stamp)
+            bag.write(f"{prefix}{cmd_topic}", cmd, stamp)
             imu = Imu()
             imu.header.stamp = stamp
             a, g = swarm.accel[0] * sign, swarm.gyro[0]
             imu.linear_acceleration.x, imu.linear_acceleration.y, imu.linear_acceleration.z = a
             imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = g
-            bag.write(f"/{robot}/{imu_name}", imu, stamp)
+            bag.write(f"{prefix}{imu_name}", imu, stamp)
             for k in range(8):
                 r = Range(range=swarm.ranges[0, k], min_range=0.0015, max_range=0.05)
                 r.header.stamp = stamp
-                bag.write(f"/{robot}/proximity{k}", r, stamp)
+                bag.write(f"{prefix}proximity{k}", r, stamp)
 
 
 def within_3_se(estimates, truth):
@@ -123,3 +126,33 @@ def test_wall_fits_the_wall_sensors_after_the_reversal_and_pools_the_others(tmp_
     assert "imu_noise" not in data and "accel" not in data["fit"]
     p = data["ir_noise"]["probability"]
     assert p[2] == p[3] == p[4] == p[5] == pytest.approx(np.mean([p[0], p[1], p[6], p[7]]))
+
+
+def test_robots_are_found_at_the_root_and_in_nested_namespaces():
+    """The names the launch files take (names:=/ puts one robot at the root namespace, as the
+    drivers' launch files do; namespaces may be nested) are the names fit_noise finds."""
+    topics = [f"/proximity{k}" for k in range(8)] + ["/imu", "/cmd_vel", "/tf", "/clock"]
+    topics += [f"/team_a/epuck_1/proximity{k}" for k in range(8)] + ["/team_a/epuck_1/accel"]
+    topics += ["/ePuck0/imu", "/team_a/epuck_1/mobile_base/cmd_vel"]
+    assert robots_in(topics) == ["/", "ePuck0", "team_a/epuck_1"]
+    root = robot_topics(topics, "/")
+    assert root.ir == {k: f"/proximity{k}" for k in range(8)}
+    assert (root.imu, root.cmd_vel) == ("/imu", "/cmd_vel")
+    nested = robot_topics(topics, "/team_a/epuck_1/")      # slashes around a name are ignored
+    assert nested.robot == "team_a/epuck_1" and nested.ir[7] == "/team_a/epuck_1/proximity7"
+    assert (nested.imu, nested.cmd_vel) == ("/team_a/epuck_1/accel",
+                                            "/team_a/epuck_1/mobile_base/cmd_vel")
+    only_imu = robot_topics(topics, "ePuck0")
+    assert only_imu.missing(SCENARIOS["rest"])[0] == "/ePuck0/proximity0"
+    assert robot_topics(["/imu"], "/").missing(SCENARIOS["wall"])[0] == "/proximity0"
+
+
+def test_a_robot_at_the_root_namespace_is_fitted(tmp_path):
+    bag, out = str(tmp_path / "root.bag"), str(tmp_path / "root_noise.yaml")
+    make_bag(bag, "/", "imu", 0.0, 2000)
+    assert main([bag, "--scenario", "rest", "-o", out]) == 0
+    data = yaml.safe_load(open(out))
+    assert data["fit"]["robot"] == "/"
+    assert data["fit"]["ir"]["proximity0"]["samples"] == 2000
+    assert data["fit"]["accel"]["samples"] == 2000
+    assert main([bag, "--scenario", "rest", "-o", out, "--robot", "/"]) == 0

@@ -100,7 +100,9 @@ def parse(argv):
     parser = argparse.ArgumentParser(prog="fit_noise", description=__doc__.split("\n")[2])
     parser.add_argument("bag")
     parser.add_argument("--scenario", required=True, choices=sorted(SCENARIOS))
-    parser.add_argument("--robot", default=None, help="robot name (default: the bag's first)")
+    parser.add_argument("--robot", default=None,
+                        help="robot name as the launch files' names (ePuck0, team_a/epuck_1, / for "
+                             "the root namespace; default: the bag's first)")
     parser.add_argument("-o", "--output", default=None,
                         help="noise file to write (default: <bag>_noise.yaml)")
     parser.add_argument("--wheel-slip", type=float, default=0.02)

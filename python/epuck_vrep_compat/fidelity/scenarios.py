@@ -36,7 +36,24 @@ SCENARIOS = {
     "wall": Scenario("wall", "paper_wall.yaml", -0.025, 3.0, 8.0, (0, 1, 6, 7), False),
 }
 
-_IR = re.compile(r"^/(?P<robot>[^/]+)/proximity(?P<k>[0-7])$")
+# a robot's topics: /<namespace>/proximity<k>, /<namespace>/imu; the namespace may be nested
+# (team_a/epuck_1) or the root (a single robot, names:=/ or the drivers' own launch files)
+_IR = re.compile(r"^(?P<ns>(/[^/]+)*)/proximity(?P<k>[0-7])$")
+_IMU = re.compile(r"^(?P<ns>(/[^/]+)*)/(imu|accel)$")
+ROOT = "/"          # the name of a robot at the root namespace
+
+
+def robot_name(namespace: str) -> str:
+    """The robot's name as the launch files' ``names`` spell it: ``ePuck0``, ``team_a/epuck_1``,
+    ``/`` for the root namespace (a leading or trailing slash is ignored; empty is the root)."""
+    name = namespace.strip("/")
+    return name if name else ROOT
+
+
+def topic_prefix(robot: str) -> str:
+    """The robot's topics' prefix: ``/ePuck0/``, ``/`` for the root namespace."""
+    name = robot_name(robot)
+    return "/" if name == ROOT else f"/{name}/"
 
 
 @dataclass
@@ -50,9 +67,10 @@ class RobotTopics:
 
     def missing(self, scenario: Scenario):
         """The topics the scenario needs that the bag lacks (names as the profile spells them)."""
-        lost = [f"/{self.robot}/proximity{k}" for k in scenario.ir_sensors if k not in self.ir]
+        prefix = topic_prefix(self.robot)
+        lost = [f"{prefix}proximity{k}" for k in scenario.ir_sensors if k not in self.ir]
         if scenario.needs_imu and self.imu is None:
-            lost.append(f"/{self.robot}/imu (or /{self.robot}/accel)")
+            lost.append(f"{prefix}imu (or {prefix}accel)")
         return lost
 
 
@@ -60,18 +78,20 @@ def robots_in(topics) -> list:
     """Names of the robots with a proximity or IMU topic, sorted."""
     found = set()
     for t in topics:
-        m = _IR.match(t) or re.match(r"^/(?P<robot>[^/]+)/(imu|accel)$", t)
+        m = _IR.match(t) or _IMU.match(t)
         if m:
-            found.add(m.group("robot"))
+            found.add(robot_name(m.group("ns")))
     return sorted(found)
 
 
 def robot_topics(topics, robot: str) -> RobotTopics:
     """The topics of ``robot`` among ``topics`` (a bag's topic names)."""
     topics = set(topics)
+    robot = robot_name(robot)
+    prefix = topic_prefix(robot)
     ir = {int(m.group("k")): t for t in topics
-          for m in [_IR.match(t)] if m and m.group("robot") == robot}
-    imu = next((t for t in (f"/{robot}/imu", f"/{robot}/accel") if t in topics), None)
-    cmd = next((t for t in (f"/{robot}/cmd_vel", f"/{robot}/mobile_base/cmd_vel")
+          for m in [_IR.match(t)] if m and robot_name(m.group("ns")) == robot}
+    imu = next((t for t in (f"{prefix}imu", f"{prefix}accel") if t in topics), None)
+    cmd = next((t for t in (f"{prefix}cmd_vel", f"{prefix}mobile_base/cmd_vel")
                 if t in topics), None)
     return RobotTopics(robot, ir, imu, cmd)
