@@ -67,41 +67,38 @@ def expected_rostest():
     return expected
 
 
+class Tally:
+    """Passed and failed over every tier; ``ok`` while each ran all it defines, none failed
+    or skipped."""
+
+    def __init__(self):
+        self.ok = True
+        self.passed = self.failed = 0
+
+    def add(self, label, path, want):
+        """One result file (a missing one: nothing ran) against the ``want`` tests defined."""
+        tests, fails, skipped = junit_counts(path) if os.path.exists(path) else (0, 0, 0)
+        print(f"{label}: {tests} run of {want} defined, {fails} failed, {skipped} skipped")
+        self.ok &= tests == want and fails == 0 and skipped == 0
+        self.passed += tests - fails - skipped
+        self.failed += fails + skipped + max(0, want - tests)
+
+
 def main(results):
-    ok = True
-    passed = failed = 0
+    tally = Tally()
     for tier in ("core", "unit", "install"):
         path = os.path.join(results, f"pytest-{tier}.xml")
-        want = expected_pytest(tier)
         if not os.path.exists(path):
             print(f"{tier}: no results (pytest did not run)")
-            ok = False
-            failed += want
-            continue
-        tests, fails, skipped = junit_counts(path)
-        print(f"{tier}: {tests} run of {want} defined, {fails} failed, {skipped} skipped")
-        ok &= tests == want and fails == 0 and skipped == 0
-        passed += tests - fails - skipped
-        failed += fails + skipped + max(0, want - tests)
+        tally.add(tier, path, expected_pytest(tier))
     for name, want in expected_core_cpp().items():
-        path = os.path.join(results, f"gtest-{name}.xml")
-        tests, fails, skipped = junit_counts(path) if os.path.exists(path) else (0, 0, 0)
-        print(f"core_cpp {name}: {tests} run of {want} defined, {fails} failed, "
-              f"{skipped} skipped")
-        ok &= tests == want and fails == 0 and skipped == 0
-        passed += tests - fails - skipped
-        failed += fails + skipped + max(0, want - tests)
+        tally.add(f"core_cpp {name}", os.path.join(results, f"gtest-{name}.xml"), want)
     for (launch, name), want in expected_rostest().items():
-        path = os.path.join(results, "rostest", "epuck_vrep_compat", f"rosunit-{name}.xml")
-        tests, fails, skipped = junit_counts(path) if os.path.exists(path) else (0, 0, 0)
-        print(f"rostest {launch} {name}: {tests} run of {want} defined, {fails} failed, "
-              f"{skipped} skipped")
-        ok &= tests == want and fails == 0 and skipped == 0
-        passed += tests - fails - skipped
-        failed += fails + skipped + max(0, want - tests)
-    print(f"total: {passed} passed, {failed} failed")
-    return 0 if ok else 1
-
+        tally.add(f"rostest {launch} {name}",
+                  os.path.join(results, "rostest", "epuck_vrep_compat", f"rosunit-{name}.xml"),
+                  want)
+    print(f"total: {tally.passed} passed, {tally.failed} failed")
+    return 0 if tally.ok else 1
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1]))
