@@ -30,14 +30,18 @@ def expected_pytest(tier):
     return sum(1 for line in out.splitlines() if "::" in line)
 
 
+def gtest_cases(source):
+    """The TEST/TEST_F cases a gtest source file defines."""
+    return len(re.findall(r"^TEST(_F)?\(", open(source, encoding="utf-8").read(), re.M))
+
+
 def expected_core_cpp():
     """{test binary name: number of TEST/TEST_F cases} of the core's gtest files
     (test/core_cpp/*_test.cpp, built as core_cpp_<file name>)."""
     expected = {}
     for source in sorted(glob.glob(os.path.join(REPO, "test", "core_cpp", "*_test.cpp"))):
         name = "core_cpp_" + os.path.basename(source)[:-len(".cpp")]
-        expected[name] = len(re.findall(r"^TEST(_F)?\(", open(source, encoding="utf-8").read(),
-                                        re.M))
+        expected[name] = gtest_cases(source)
     return expected
 
 
@@ -57,8 +61,7 @@ def expected_rostest():
             if test_type == "hztest":
                 count = 1
             elif os.path.exists(cpp):
-                count = len(re.findall(r"^TEST(_F)?\(", open(cpp, encoding="utf-8").read(),
-                                       re.M))
+                count = gtest_cases(cpp)
             else:
                 script = os.path.join(REPO, "test", "rostest", test_type)
                 count = len(re.findall(r"^\s+def test_", open(script, encoding="utf-8").read(),
@@ -99,6 +102,7 @@ def main(results):
                   want)
     print(f"total: {tally.passed} passed, {tally.failed} failed")
     return 0 if tally.ok else 1
+
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1]))

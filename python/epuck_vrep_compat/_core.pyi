@@ -408,8 +408,12 @@ def detect_blobs(
 
 class BatchWriter:
     """Non-blocking batched writes to many sockets, each with a backlog bounded by
-    max_backlog_bytes (oldest whole batches dropped, never a partly sent one)."""
-    def __init__(self, max_backlog_bytes: int) -> None: ...
+    max_backlog_bytes and max_backlog_batches (oldest whole batches dropped, never a partly
+    sent one)."""
+    def __init__(self, max_backlog_bytes: int, max_backlog_batches: int = ...) -> None:
+        """Default batches: no limit; ValueError for 0."""
+    @property
+    def max_backlog_batches(self) -> int: ...
     def open(self, fd: int, own: bool = True) -> int:
         """Start writing to a socket descriptor, duplicated when own (OSError past the
         descriptor limit), else borrowed; returns the connection's id (never reused)."""
@@ -417,10 +421,19 @@ class BatchWriter:
         """Forget a connection: its backlog goes, its duplicate descriptor is closed."""
     def queue(self, id: int, data: bytes) -> None:
         """Queue one whole batch (bytes-like, copied) for a connection."""
-    def flush(self) -> list[tuple[int, int, int, bool]]:
+    def queue_slices(self, data: bytes, slices: npt.ArrayLike) -> None:
+        """Queue bytes [begin, end) of data for each row (id, begin, end) of slices (M, 3);
+        IndexError, queueing nothing, for a slice outside data."""
+    def flush(self) -> list[tuple[int, int, bool]]:
         """Send what every socket takes now, without blocking; releases the GIL. Returns
-        [(id, sent_bytes, dropped_batches, failed)] for the connections where something
-        happened."""
+        [(id, dropped_batches, failed)] for the connections where something went wrong."""
+    def request_flush(self) -> None:
+        """Ask the writer's own thread to flush what is queued now; returns at once."""
+    def take_reports(self, wait: bool) -> list[tuple[int, int, bool]]:
+        """The reports of the flushes the writer's thread finished since the last call."""
+    def take_sent_bytes(self, wait: bool = True) -> list[tuple[int, int]]:
+        """[(id, bytes)] sent since the last call that returned them; without wait, nothing
+        while a flush is under way."""
     @property
     def backlog_bytes(self) -> int: ...
     @property

@@ -42,11 +42,17 @@ class FakePublisher:
         self.impl = impl
 
 
-@pytest.fixture
-def pair():
+def small_pair():
+    """A connected socket pair with small buffers, so that a reader that stops fills them soon."""
     writer, reader = socket.socketpair()
     writer.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 16384)
     reader.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16384)
+    return writer, reader
+
+
+@pytest.fixture
+def pair():
+    writer, reader = small_pair()
     yield writer, reader
     writer.close()
     reader.close()
@@ -209,12 +215,10 @@ def test_a_subscriber_lagging_on_many_topics_gets_one_warning_naming_them(monkey
     about once per period, not once per topic; the line counts and names its topics."""
     lines = []
     monkeypatch.setattr("rospy.logwarn", lambda fmt, *args: lines.append(fmt % args))
-    pairs = [socket.socketpair() for _ in range(6)]
+    pairs = [small_pair() for _ in range(6)]
     try:
         pubs = []
-        for k, (writer, reader) in enumerate(pairs):
-            writer.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 16384)
-            reader.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16384)
+        for k, (writer, _reader) in enumerate(pairs):
             impl = FakeImpl(FakeConnection(writer))
             impl.resolved_name = f"/ePuck{k}/proximity0"
             pubs.append(FakePublisher(impl))
