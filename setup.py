@@ -20,6 +20,7 @@ setup(**generate_distutils_setup(
         "epuck_vrep_compat.nodes",
         "epuck_vrep_compat.thesis",
         "epuck_vrep_compat.fidelity",
+        "epuck_vrep_compat.experiment",
     ],
     package_dir={"": "python"},
 ))

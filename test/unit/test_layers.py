@@ -26,6 +26,7 @@ LAYERS = (
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros",),                           # the simulator node and its faces
     ("thesis", "nodes", "fidelity"),    # client nodes: they talk to the simulator through ROS
+    ("experiment",),                    # many runs of clients and the simulator, on Dask
 )
 ROS_LAYERS = (                          # inside ros/, bottom first
     ("common",),                        # names defined once, throttled log, parameter checks

@@ -1,0 +1,132 @@
+"""Launch files for the runs: finding the user's, reading their arguments, writing each run's.
+
+A run is one roslaunch of one generated file that includes the simulator's launch file and the
+user's launch files unchanged, starts the user's nodes as ``rosrun`` would, sets the varied ROS
+parameters, and starts the ``experiment_probe`` node (required: its end is the run's end).
+"""
+import fnmatch
+import os
+import xml.etree.ElementTree as ET
+from xml.sax.saxutils import quoteattr
+
+import rospkg
+import yaml
+
+PROBE = ("epuck_vrep_compat", "experiment_probe")
+
+
+def resolve(value, base_dir):
+    """The absolute path of a launch file given as a path (absolute or relative to
+    ``base_dir``) or as ``PACKAGE/path/in/package`` (also ``PACKAGE/x.launch`` for the
+    package's ``launch/`` folder); None when there is no such file."""
+    candidates = [value if os.path.isabs(value) else os.path.join(base_dir, value)]
+    package, _, rest = value.partition("/")
+    if rest and not os.path.isabs(value):
+        try:
+            root = rospkg.RosPack().get_path(package)
+            candidates += [os.path.join(root, rest), os.path.join(root, "launch", rest)]
+        except rospkg.ResourceNotFound:
+            pass
+    return next((os.path.abspath(c) for c in candidates if os.path.isfile(c)), None)
+
+
+def declared_args(path):
+    """The names of the ``<arg>`` elements of a launch file (its top level and its groups), or
+    None when it cannot be read (the run will say why)."""
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError):
+        return None
+    return {a.get("name") for a in root.iter("arg") if a.get("name")}
+
+
+def find_node(package, node_type):
+    """The executable ``node_type`` of ``package`` as rosrun finds it, or None."""
+    try:
+        root = rospkg.RosPack().get_path(package)
+    except rospkg.ResourceNotFound:
+        return None
+    for folder, dirs, files in os.walk(root, followlinks=True):
+        dirs[:] = [d for d in dirs if not d.startswith(".")]
+        if node_type in files:
+            path = os.path.join(folder, node_type)
+            if os.access(path, os.X_OK):
+                return path
+    # catkin's devel space keeps installed scripts out of the source folder
+    from catkin.find_in_workspaces import find_in_workspaces   # Debian's catkin package
+    found = find_in_workspaces(["libexec"], project=package, first_matching_workspace_only=False)
+    for folder in found:
+        path = os.path.join(folder, node_type)
+        if os.access(path, os.X_OK):
+            return path
+    return None
+
+
+def _value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+def _arg(name, value):
+    return f'    <arg name={quoteattr(name)} value={quoteattr(_value(value))}/>'
+
+
+def run_launch(run):
+    """The XML of one run's launch file. ``run`` is a ``plan.RunTask``."""
+    out = ["<launch>", '  <param name="/use_sim_time" value="true"/>',
+           f'  <param name="/experiment/seed" value="{run.seed}"/>',
+           f'  <param name="/experiment/run_key" value="{run.key}"/>']
+    for name, value in sorted(run.global_params.items()):
+        out.append(f"  <rosparam param={quoteattr(name)}>{_yaml(value)}</rosparam>")
+    out.append(f"  <include file={quoteattr(run.sim_launch)}>")
+    out += [_arg(k, v) for k, v in sorted(run.sim_args.items())]
+    out.append("  </include>")
+    for entry in run.code:
+        if entry["kind"] == "launch":
+            out.append(f"  <include file={quoteattr(entry['launch'])}>")
+            out += [_arg(k, v) for k, v in sorted(entry["args"].items())]
+            out.append("  </include>")
+        else:
+            out += _node(entry)
+    out += _probe(run)
+    if run.bag_dir:
+        out += _bag(run)
+    out.append("</launch>")
+    return "\n".join(out) + "\n"
+
+
+def _yaml(value):
+    text = yaml.safe_dump(value, default_flow_style=True).strip()
+    return text[:-4] if text.endswith("\n...") else text.replace("\n...", "")
+
+
+def _node(entry):
+    attrs = (f'pkg={quoteattr(entry["package"])} type={quoteattr(entry["type"])} '
+             f'name={quoteattr(entry["name"])} ns={quoteattr(entry["namespace"])} '
+             f'args={quoteattr(entry["args"])} output="log"')
+    out = [f"  <node {attrs}>"]
+    for name, value in sorted(entry["params"].items()):
+        out.append(f"    <rosparam param={quoteattr(name)}>{_yaml(value)}</rosparam>")
+    for src, dst in sorted(entry["remap"].items()):
+        out.append(f"    <remap from={quoteattr(src)} to={quoteattr(str(dst))}/>")
+    out.append("  </node>")
+    return out
+
+
+def _bag(run):
+    """rosbag record of the recorded topics into the run's folder (copied out by the runner)."""
+    pattern = "|".join(fnmatch.translate(p).replace("\\Z", "$").replace("(?s:", "(?:")
+                       for p in run.record)
+    bag = os.path.join(os.path.dirname(run.recording_path), "run.bag")
+    return [f'  <node pkg="rosbag" type="record" name="experiment_bag" output="log" '
+            f'args={quoteattr(f"-O {bag} -e {pattern!r}")}/>']
+
+
+def _probe(run):
+    settings = {"duration_s": run.duration_s, "out": run.recording_path,
+                "topics": run.record, "pace": run.pace}
+    return [f'  <node pkg="{PROBE[0]}" type="{PROBE[1]}" name="experiment_probe" '
+            'required="true" output="log">',
+            f"    <rosparam>{yaml.safe_dump(settings, default_flow_style=True).strip()}"
+            "</rosparam>", "  </node>"]

@@ -1,0 +1,131 @@
+"""From a checked spec to the list of runs: parameter cells (grid × list × random samples)
+times seeds, each run keyed by the spec's hash, its parameters and its seed."""
+import copy
+import hashlib
+import itertools
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from epuck_vrep_compat.experiment import metrics
+
+
+@dataclass
+class RunTask:
+    """Everything one run needs, picklable: it travels to a Dask worker, which may be another
+    machine with no shared file system (user metrics travel as source)."""
+    key: str
+    experiment: str
+    spec_hash: str
+    seed: int
+    params: dict                       # the varied values, by their spec names
+    sim_launch: str
+    sim_args: dict
+    code: list
+    global_params: dict
+    duration_s: float
+    timeout_s: float
+    record: list
+    metrics: list
+    custom: dict
+    pace: dict
+    network: str
+    bag_dir: str = None
+    world_path: str = None
+    attempt: int = 1
+    marker: str = ""                   # the experiment's process marker (see runner)
+    recording_path: str = field(default="", repr=False)   # set on the worker
+
+    def with_attempt(self, attempt):
+        task = copy.copy(self)
+        task.attempt = attempt
+        return task
+
+
+def cells(vary):
+    """The parameter cells of ``vary`` (each a dict name -> value), in a stable order."""
+    parts = []
+    if "grid" in vary:
+        names = list(vary["grid"])
+        parts.append([dict(zip(names, values))
+                      for values in itertools.product(*(vary["grid"][n] for n in names))])
+    if "list" in vary:
+        parts.append([dict(c) for c in vary["list"]])
+    if "random" in vary:
+        parts.append(_samples(vary["random"]))
+    out = [{}]
+    for part in parts:
+        out = [{**a, **b} for a in out for b in part]
+    return out
+
+
+def _samples(random):
+    rng = np.random.default_rng(random["seed"])
+    out = []
+    for _ in range(random["samples"]):
+        cell = {}
+        for name, dist in random["params"].items():
+            kind, bounds = next(iter(dist.items()))
+            if kind == "uniform":
+                cell[name] = float(rng.uniform(*bounds))
+            elif kind == "loguniform":
+                cell[name] = float(np.exp(rng.uniform(np.log(bounds[0]), np.log(bounds[1]))))
+            elif kind == "integers":
+                cell[name] = int(rng.integers(int(bounds[0]), int(bounds[1]), endpoint=True))
+            else:
+                cell[name] = bounds[int(rng.integers(len(bounds)))]
+        out.append(cell)
+    return out
+
+
+def run_key(spec_hash, params, seed):
+    text = json.dumps({"spec": spec_hash, "params": params, "seed": seed}, sort_keys=True,
+                      default=str)
+    return hashlib.sha1(text.encode()).hexdigest()[:16]
+
+
+def tasks(spec, marker=""):
+    """Every run of the spec, cells outer and seeds inner."""
+    out = []
+    for cell in cells(spec["vary"]):
+        for seed in spec["seeds"]:
+            out.append(_task(spec, cell, seed, marker))
+    return out
+
+
+def _task(spec, cell, seed, marker):
+    sim_args = dict(spec["simulator"]["args"])
+    declared = spec["simulator"].get("declared") or set()
+    code = [copy.deepcopy({k: v for k, v in c.items() if k != "declared"}) for c in spec["code"]]
+    by_name = {c["name"]: c for c in code}
+    global_params = {}
+    for name, value in cell.items():
+        if name.startswith("/"):
+            global_params[name] = value
+            continue
+        owner, _, key = name.partition(".")
+        if owner == "sim":
+            sim_args[key] = value
+        else:
+            entry = by_name[owner]
+            entry["args" if entry["kind"] == "launch" else "params"][key] = value
+    # the run's seed and pace go to the simulator; it runs as fast as it can and waits to
+    # be started by the probe
+    if "seed" in declared:
+        sim_args["seed"] = seed
+    if "rtf" in declared:
+        sim_args.setdefault("rtf", 0.0)
+    if "paused" in declared:
+        sim_args["paused"] = True
+    needed = metrics.topics_needed(spec["metrics"])
+    # lockstep waits, after each step, for what the code answers and what the metrics read
+    pace = dict(spec["pace"], wait_for=sorted(set(spec["pace"]["wait_for"]) | set(needed)))
+    record = sorted(set(needed) | set(spec["record"]) | set(spec["pace"]["wait_for"]))
+    return RunTask(key=run_key(spec["hash"], cell, seed), experiment=spec["name"],
+                   spec_hash=spec["hash"], seed=seed, params=cell,
+                   sim_launch=spec["simulator"]["launch"], sim_args=sim_args, code=code,
+                   global_params=global_params, duration_s=spec["duration_s"],
+                   timeout_s=spec["timeout_s"], record=record, metrics=spec["metrics"],
+                   custom=spec["custom"], pace=pace, network=spec["network"],
+                   bag_dir=spec["bag_dir"], world_path=sim_args.get("world"), marker=marker)

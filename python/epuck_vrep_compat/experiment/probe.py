@@ -1,0 +1,172 @@
+"""The ``experiment_probe`` node: starts a run, records it, and ends it.
+
+Started (paused) by the run's launch file beside the simulator and the user's code. It waits
+for the simulator's ``/vrep/unpause`` service and for a publisher on every topic it records,
+gives the user's nodes ``start_grace_s`` to subscribe, then starts the simulation: ``free``,
+at whatever real-time factor the simulator was given (the runner gives ``rtf:=0``), or
+``lockstep``, V-REP's synchronous mode: one step, then wait until every ``wait_for`` topic
+has published once (or ``step_timeout_s`` of wall time passed: a late step, counted).
+It records every message of the topics matching ``~topics`` (glob patterns) as numeric
+columns, and once the simulated time reaches ``~duration_s`` writes the recording (npz), the
+world's scene file and a status file beside it, then exits: the launch marks it required, so
+roslaunch ends the run. Exit status 0 done, 2 the run never started (the status says why).
+"""
+import fnmatch
+import json
+import os
+import sys
+import threading
+import time
+
+import rosgraph
+import rospy
+from rosgraph_msgs.msg import Clock
+from roslib.message import get_message_class
+from std_srvs.srv import Empty
+
+from epuck_vrep_compat.experiment import flatten, metrics
+
+START_TIMEOUT_S = 120.0
+
+
+class Probe:
+    """The run's recording and its pace (see the module's docstring)."""
+
+    def __init__(self, settings):
+        self.duration_s = float(settings["duration_s"])
+        self.out = settings["out"]
+        self.patterns = list(settings.get("topics", []))
+        self.pace = settings.get("pace", {"mode": "free"})
+        self.lock = threading.Condition()
+        self.clock = 0.0
+        self.columns = {}                # topic -> flatten.Columns
+        self.counts = {}                 # wait_for's topics -> messages received
+        self.late_steps = 0
+        self.subs = []
+
+    # --- callbacks -------------------------------------------------------------------------
+    def on_clock(self, msg):
+        with self.lock:
+            self.clock = msg.clock.to_sec()
+            self.lock.notify_all()
+
+    def on_message(self, msg, topic):
+        with self.lock:
+            self.columns[topic].add(msg, self.clock)
+            if topic in self.counts:
+                self.counts[topic] += 1
+                self.lock.notify_all()
+
+    # --- start -----------------------------------------------------------------------------
+    def subscribe(self, deadline):
+        """Subscribes to every topic matching a pattern once each pattern has a publisher."""
+        master = rosgraph.Master(rospy.get_name())
+        rospy.wait_for_service("/vrep/unpause", timeout=max(1.0, deadline - time.monotonic()))
+        while True:
+            types = dict(master.getTopicTypes())
+            missing = [p for p in self.patterns
+                       if not any(fnmatch.fnmatchcase(t, p) for t in types)]
+            if not missing:
+                break
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"no topic matches {missing} (the simulator or the code "
+                                   "never published them)")
+            time.sleep(0.05)
+        for topic in sorted(t for t in types if any(fnmatch.fnmatchcase(t, p)
+                                                    for p in self.patterns)):
+            cls = get_message_class(types[topic])
+            self.columns[topic] = flatten.Columns(types[topic], cls)
+            self.subs.append(rospy.Subscriber(topic, cls, self.on_message, topic,
+                                              queue_size=10000, tcp_nodelay=True))
+            if any(fnmatch.fnmatchcase(topic, p) for p in self.pace.get("wait_for", [])):
+                self.counts[topic] = 0
+        while any(s.get_num_connections() == 0 for s in self.subs):
+            if time.monotonic() > deadline:
+                raise RuntimeError("could not connect to every recorded topic")
+            time.sleep(0.02)
+
+    def start(self):
+        time.sleep(self.pace.get("start_grace_s", 0.5))
+        if self.pace["mode"] == "lockstep":
+            from vrep_common.srv import simRosSynchronous
+            rospy.ServiceProxy("/vrep/simRosSynchronous", simRosSynchronous)(enable=1)
+        rospy.ServiceProxy("/vrep/unpause", Empty)()
+
+    # --- the run ---------------------------------------------------------------------------
+    def run_free(self):
+        with self.lock:
+            while self.clock < self.duration_s and not rospy.is_shutdown():
+                self.lock.wait(0.1)
+
+    def run_lockstep(self):
+        from vrep_common.srv import simRosSynchronousTrigger
+        trigger = rospy.ServiceProxy("/vrep/simRosSynchronousTrigger", simRosSynchronousTrigger,
+                                     persistent=True)
+        timeout = self.pace.get("step_timeout_s", 1.0)
+        settle_s = self.pace.get("settle_s", 0.003)
+        required = dict.fromkeys(self.counts, 0)
+        while not rospy.is_shutdown():
+            with self.lock:
+                if self.clock >= self.duration_s:
+                    return
+                before_clock = self.clock
+            time.sleep(settle_s)         # the answer reaches the simulator by its own connection
+            trigger()
+            required = {t: n + 1 for t, n in required.items()}
+            deadline = time.monotonic() + timeout
+            with self.lock:
+                # answered: as many messages on each wait_for topic as steps so far (a node
+                # whose timer fired twice in one step has answered the next one already); a
+                # late step forgives what was missing, so one miss does not make all late
+                while not rospy.is_shutdown():
+                    answered = all(self.counts[t] >= n for t, n in required.items())
+                    if self.clock > before_clock and answered:
+                        break
+                    left = deadline - time.monotonic()
+                    if left <= 0:
+                        self.late_steps += 1
+                        required = {t: min(n, self.counts[t]) for t, n in required.items()}
+                        break
+                    self.lock.wait(left)
+
+    # --- the end ---------------------------------------------------------------------------
+    def write(self, status, message=""):
+        os.makedirs(os.path.dirname(self.out) or ".", exist_ok=True)
+        with self.lock:
+            recording = {t: c.series() for t, c in self.columns.items()}
+            clock = self.clock
+        metrics.save_recording(self.out + ".tmp.npz", recording)
+        os.replace(self.out + ".tmp.npz", self.out)
+        world = rospy.get_param("/vrep/world", "")
+        info = {"status": status, "message": message, "sim_time_s": clock,
+                "late_steps": self.late_steps, "world": world,
+                "messages": {t: int(s.t.size) for t, s in recording.items()}}
+        with open(os.path.splitext(self.out)[0] + ".status.json", "w") as f:
+            json.dump(info, f)
+
+
+def main():
+    rospy.init_node("experiment_probe")
+    settings = {k: rospy.get_param("~" + k) for k in ("duration_s", "out", "topics", "pace")
+                if rospy.has_param("~" + k)}
+    if "duration_s" not in settings or "out" not in settings:
+        rospy.logfatal("experiment_probe needs ~duration_s and ~out")
+        return 2
+    probe = Probe(settings)
+    rospy.Subscriber("/clock", Clock, probe.on_clock, queue_size=100)
+    try:
+        probe.subscribe(time.monotonic() + START_TIMEOUT_S)
+        probe.start()
+    except (RuntimeError, rospy.ROSException, rospy.ServiceException) as e:
+        rospy.logerr(f"experiment_probe: the run did not start: {e}")
+        probe.write("no_start", str(e))
+        return 2
+    (probe.run_lockstep if probe.pace["mode"] == "lockstep" else probe.run_free)()
+    probe.write("done" if not rospy.is_shutdown() else "interrupted")
+    rospy.loginfo(f"experiment_probe: {probe.duration_s} s simulated, late steps "
+                  f"{probe.late_steps}; ending the run")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
