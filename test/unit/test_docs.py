@@ -86,8 +86,8 @@ def declared_services():
         source = open(path, encoding="utf-8").read()
         for name, type_name in re.findall(r"rospy\.Service\(\s*([^,]+?)\s*,\s*(\w+)", source):
             if name.startswith('"~'):
-                owner = "vrep" if os.sep + "ros" + os.sep in path else \
-                    os.path.basename(path)[:-3]
+                in_simulator = os.path.relpath(path, PACKAGE_DIR).startswith("ros" + os.sep)
+                owner = "vrep" if in_simulator else os.path.basename(path)[:-3]
                 name = f"/{owner}/{name[2:-1]}"
             else:
                 name = getattr(names, name)
