@@ -26,11 +26,17 @@ FIND_PKG = "$(find " + docs.PKG + ")"
 
 # -- launch files ---------------------------------------------------------------------------
 
+def choices(doc):
+    """The values an argument's doc lists as ``a | b (why) | c; more words``, else None."""
+    listed = (doc or "").split(";")[0]
+    return [part.split()[0] for part in listed.split("|")] if "|" in listed else None
+
+
 def launch_args(path):
-    """({settable argument: has a default}, files included with pass_all_args) of a launch
-    file; an <arg> with value= is fixed, not settable."""
+    """({settable argument: (has a default, its listed values or None)}, files included with
+    pass_all_args) of a launch file; an <arg> with value= is fixed, not settable."""
     root = ET.parse(path).getroot()
-    settable = {a.get("name"): a.get("default") is not None
+    settable = {a.get("name"): (a.get("default") is not None, choices(a.get("doc")))
                 for a in root.iter("arg") if a.get("value") is None}
     passed = [i.get("file").replace(FIND_PKG, REPO) for i in root.iter("include")
               if i.get("pass_all_args") == "true"]
@@ -45,9 +51,13 @@ def launch_problems(launch):
     settable, passed = launch_args(path)
     for included in passed:
         settable.update(launch_args(included)[0])
-    problems = [f"{launch.file} has no argument '{a}' to set (it has: {', '.join(sorted(settable))})"
+    known = ", ".join(sorted(settable))
+    problems = [f"{launch.file} has no argument '{a}' to set (it has: {known})"
                 for a in launch.args if a not in settable]
-    problems += [f"{launch.file} needs '{a}:=...'" for a, has_default in settable.items()
+    problems += [f"{launch.file}: {a} is one of {settable[a][1]}, not '{value}'"
+                 for a, value in launch.args.items()
+                 if a in settable and settable[a][1] and value not in settable[a][1]]
+    problems += [f"{launch.file} needs '{a}:=...'" for a, (has_default, _) in settable.items()
                  if not has_default and a not in launch.args]
     return problems
 
@@ -145,6 +155,8 @@ def topic_problems(name):
 
 def command_problems(command):
     """Everything a command names that the repository does not have."""
+    if not command.words:
+        return ["no shell command (unbalanced quotes?)"]
     problems = []
     launch = docs.launch_of(command)
     if launch:
@@ -214,6 +226,8 @@ def test_the_readme_stays_short_and_starts_with_its_two_commands():
     ("roslaunch epuck_vrep_compat epuckz.launch", "no launch file launch/epuckz.launch"),
     ("roslaunch epuck_vrep_compat epucks.launch cmd_vel_scale:=si", "no argument 'cmd_vel_scale'"),
     ("roslaunch epuck_vrep_compat paper_wall.launch robot:=x", "no argument 'robot'"),
+    ("roslaunch epuck_vrep_compat epucks.launch profile:=epuck_drivr",
+     "profile is one of ['vrep', 'epuck_driver', 'epuck2_driver'], not 'epuck_drivr'"),
     ("rosrun epuck_vrep_compat fit_noisy a.bag", "no executable node scripts/fit_noisy"),
     ("bash tools/tests", "no tools/tests"),
     ("rosrun rviz rviz -d $(rospack find epuck_vrep_compat)/config/epuck.rviz",
@@ -224,6 +238,7 @@ def test_the_readme_stays_short_and_starts_with_its_two_commands():
     ("rostopic pub -1 /ePuck0/cmd_vel geometry_msgs/Twist '{linear: {q: 1}}'",
      "geometry_msgs/Vector3 has no field 'q'"),
     ("rostopic pub /a geometry_msgs/Twister '{}'", "no message type geometry_msgs/Twister"),
+    ("rostopic pub /a geometry_msgs/Twist '{linear: {x: 1}}", "unbalanced quotes"),
 ])
 def test_the_check_finds_each_wrong_name(tmp_path, block, expected):
     (tmp_path / "README.md").write_text(f"# x\n\n```bash\n{block}   # a comment\n```\n")
