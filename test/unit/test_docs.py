@@ -203,6 +203,16 @@ def test_every_link_reaches_its_page_and_heading(page, line, target):
         assert anchor in docs.anchors(full), f"{page}:{line}: no heading #{anchor} in {path}"
 
 
+def test_the_parameters_page_lists_every_argument_of_epucks_launch():
+    """Its table's first column names exactly the arguments a user can set."""
+    text = open(os.path.join(REPO, "docs", "parameters.md"), encoding="utf-8").read()
+    table = text.split("## Launch arguments of `epucks.launch`")[1].split("\n## ")[0]
+    listed = {name for row in table.split("\n") if row.startswith("| `")
+              for name in re.findall(r"`(\w+)`", row.split("|")[1])}
+    settable, _ = launch_args(os.path.join(REPO, "launch", "epucks.launch"))
+    assert listed == set(settable)
+
+
 def test_the_walkthrough_is_what_its_rostest_starts():
     """The rostest docs_walkthrough starts the simulator exactly as the walk-through does."""
     launch, lines = docs.walkthrough(REPO)
