@@ -12,10 +12,10 @@
 
 #include "binding_helpers.hpp"
 #include "epuck_vrep_compat/sensors/blob_detection.hpp"
-#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "epuck_vrep_compat/sensors/depth_noise.hpp"
 #include "epuck_vrep_compat/sensors/laser_scanner.hpp"
 #include "epuck_vrep_compat/sensors/ray_proximity.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace py = pybind11;
 using namespace py::literals;

@@ -20,13 +20,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "epuck_vrep_compat/world/body_contacts.hpp"
-#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "epuck_vrep_compat/epuck/cone_sensor.hpp"
 #include "epuck_vrep_compat/epuck/diff_drive.hpp"
 #include "epuck_vrep_compat/epuck/epuck_model.hpp"
 #include "epuck_vrep_compat/epuck/range_noise.hpp"
 #include "epuck_vrep_compat/random/rng.hpp"
+#include "epuck_vrep_compat/world/body_contacts.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace evc {
 

@@ -24,8 +24,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "epuck_vrep_compat/random/rng.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace evc {
 

@@ -26,8 +26,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "epuck_vrep_compat/random/rng.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace evc {
 

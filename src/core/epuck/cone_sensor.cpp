@@ -5,9 +5,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "world/body.hpp"
 #include "world/bullet_conversions.hpp"
-#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace evc {
 namespace {

@@ -5,10 +5,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "world/body.hpp"
-#include "epuck_vrep_compat/world/body_contacts.hpp"
 #include "epuck_vrep_compat/epuck/cone_sensor.hpp"
 #include "epuck_vrep_compat/epuck/imu_model.hpp"
+#include "epuck_vrep_compat/world/body_contacts.hpp"
+#include "world/body.hpp"
 
 namespace evc {
 namespace {

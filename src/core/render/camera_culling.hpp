@@ -12,8 +12,8 @@
 #include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
 
-#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "epuck_vrep_compat/render/ray_camera.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 #include "world/primitive_ray.hpp"
 
 namespace evc {

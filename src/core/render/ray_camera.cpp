@@ -14,8 +14,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include "world/bullet_conversions.hpp"
 #include "camera_culling.hpp"
+#include "world/bullet_conversions.hpp"
 
 namespace evc {
 namespace {
