@@ -73,7 +73,6 @@ def main(argv=None):
               f"{len(spec['seeds'])} seed(s) = {len(tasks)} run(s), spec hash {spec['hash']}")
         return 0
     store = results.ResultStore(args.out or os.path.join("results", spec["name"]))
-    store.save_spec(spec)
     print(f"experiment: {spec['name']}: {len(tasks)} run(s), {len(store.done & {t.key for t in tasks})}"
           f" already in {store.out_dir}", file=sys.stderr)
     try:

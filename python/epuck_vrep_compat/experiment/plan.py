@@ -4,6 +4,7 @@ import copy
 import hashlib
 import itertools
 import json
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -98,6 +99,14 @@ def tasks(spec, marker=""):
     return out
 
 
+def _absolute(value, base_dir):
+    """``value`` as an absolute path when it is a relative path to something in ``base_dir``."""
+    if isinstance(value, str) and value and not value.startswith(("/", "$", "~")) and \
+            os.path.exists(os.path.join(base_dir, value)):
+        return os.path.normpath(os.path.join(base_dir, value))
+    return value
+
+
 def _task(spec, cell, seed, marker):
     sim_args = dict(spec["simulator"]["args"])
     declared = spec["simulator"].get("declared") or set()
@@ -117,6 +126,12 @@ def _task(spec, cell, seed, marker):
                 entry["launch"] = launch_files.resolve(value, spec["base_dir"])
             else:
                 entry["args" if entry["kind"] == "launch" else "params"][key] = value
+    # a relative path in an argument means the spec's folder (roslaunch runs in the run's)
+    sim_args = {k: _absolute(v, spec["base_dir"]) for k, v in sim_args.items()}
+    for entry in code:
+        for table in ("args", "params"):
+            if isinstance(entry.get(table), dict):
+                entry[table] = {k: _absolute(v, spec["base_dir"]) for k, v in entry[table].items()}
     # the run's seed and pace go to the simulator; it runs as fast as it can and waits to
     # be started by the probe
     if "seed" in declared:
