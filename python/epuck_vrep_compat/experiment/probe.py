@@ -42,6 +42,7 @@ class Probe:
         self.columns = {}                # topic -> flatten.Columns
         self.counts = {}                 # wait_for's topics -> messages received
         self.late_steps = 0
+        self.times = {"probe": time.time()}       # wall clock of each phase, for the row
         self.subs = []
 
     # --- callbacks -------------------------------------------------------------------------
@@ -144,7 +145,9 @@ class Probe:
         metrics.save_recording(self.out + ".tmp.npz", recording)
         os.replace(self.out + ".tmp.npz", self.out)
         world = rospy.get_param("/vrep/world", "")
+        self.times["done"] = time.time()
         info = {"status": status, "message": message, "sim_time_s": clock,
+                "times": self.times,
                 "late_steps": self.late_steps, "world": world,
                 "messages": {t: int(s.t.size) for t, s in recording.items()}}
         with open(os.path.splitext(self.out)[0] + ".status.json", "w") as f:
@@ -162,7 +165,9 @@ def main():
     rospy.Subscriber("/clock", Clock, probe.on_clock, queue_size=100)
     try:
         probe.subscribe(time.monotonic() + probe.pace.get("start_timeout_s", START_TIMEOUT_S))
+        probe.times["ready"] = time.time()
         probe.start()
+        probe.times["started"] = time.time()
     except (RuntimeError, rospy.ROSException, rospy.ServiceException) as e:
         rospy.logerr(f"experiment_probe: the run did not start: {e}")
         probe.write("no_start", str(e))

@@ -14,8 +14,8 @@ import os
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-FIRST_COLUMNS = ("run_key", "status", "seed", "attempts", "wall_s", "exit_code", "late_steps",
-                 "host", "error")
+FIRST_COLUMNS = ("run_key", "status", "seed", "attempts", "wall_s", "startup_s", "stepping_s",
+                 "teardown_s", "exit_code", "late_steps", "host", "error")
 
 
 class ResultStore:

@@ -91,7 +91,8 @@ def _judge(task, run_dir, outcome):
     log = _read(os.path.join(run_dir, "launch.log"))
     died = [(name, int(code)) for name, code in DIED.findall(log)
             if not name.startswith("experiment_probe") and int(code) not in (0, -2, -15)]
-    out = {"exit_code": outcome.get("exit_code"), "late_steps": status.get("late_steps")}
+    out = {"exit_code": outcome.get("exit_code"), "late_steps": status.get("late_steps"),
+           **phases(outcome.get("times", {}), status.get("times", {}))}
     if outcome.get("timed_out"):
         return {**out, "status": "failed", "error": f"timed out after {task.timeout_s:g} s of "
                 "wall time", "log_tail": _tail(run_dir)}
@@ -116,6 +117,19 @@ def _judge(task, run_dir, outcome):
     row.update({f"metric.{k}": (float(v) if v is not None else math.nan)
                 for k, v in values.items()})
     return row
+
+
+def phases(shepherd_times, probe_times):
+    """Where a run's wall time went [s]: ``startup_s`` from roslaunch's start to the first step
+    (master, simulator, the code, the probe's grace), ``stepping_s`` the simulated time's
+    steps, ``teardown_s`` from the probe's end to the last process gone."""
+    t = {**shepherd_times, **probe_times}
+    out = {}
+    for name, (a, b) in {"startup_s": ("launch", "started"), "stepping_s": ("started", "done"),
+                         "teardown_s": ("done", "clean")}.items():
+        if a in t and b in t:
+            out[name] = round(t[b] - t[a], 3)
+    return out
 
 
 def _bag(run_dir):

@@ -89,7 +89,8 @@ def main(argv=None):
         raise Stop()
     signal.signal(signal.SIGTERM, stop)
     signal.signal(signal.SIGINT, stop)
-    out = {"exit_code": None, "timed_out": False, "stopped": False, "orphaned": False}
+    out = {"exit_code": None, "timed_out": False, "stopped": False, "orphaned": False,
+           "times": {"launch": time.time()}}
     with open(os.path.join(run_dir, "launch.log"), "wb") as log:
         launch = subprocess.Popen(job["command"], stdout=log, stderr=subprocess.STDOUT,
                                   env=job["env"], cwd=run_dir)
@@ -107,7 +108,9 @@ def main(argv=None):
         out["stopped"] = True
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    out["times"]["launch_end"] = time.time()
     left, killed = end_everything(launch, job["env"][isolation.RUN_MARKER])
+    out["times"]["clean"] = time.time()
     out["exit_code"] = launch.returncode
     out["left_at_end"], out["killed"] = len(left), len(killed)
     with open(os.path.join(run_dir, "shepherd.json"), "w") as f:
