@@ -33,8 +33,18 @@ def value_order(v):
 
 
 def label(v) -> str:
-    """A parameter value as a short label."""
-    return f"{v:g}" if isinstance(v, float) else str(v)
+    """A parameter value as a short label (a file by its name, not its folder)."""
+    if isinstance(v, float):
+        return f"{v:g}"
+    text = str(v)
+    return os.path.basename(text) if "/" in text and not text.startswith("/") or \
+        text.startswith("/") and os.path.splitext(text)[1] else text
+
+
+def _legend(ax):
+    """Below the axes, out of the data's way."""
+    ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=1,
+              frameon=False)
 
 
 def _is_numeric(values):
@@ -96,7 +106,7 @@ def plot_against(path, summary, metric, param, series_params=(), note=""):
     ax.set_ylabel(metric)
     ax.set_title(f"{metric}: mean and 95 % interval{note}", fontsize="medium")
     if series_params:
-        ax.legend(fontsize="small")
+        _legend(ax)
     return _save(fig, path)
 
 
@@ -122,7 +132,7 @@ def plot_seeds(path, rows, metric, cell_params):
     if not ok:
         _no_values(ax)
     if len(cells) > 1:
-        ax.legend(fontsize="small")
+        _legend(ax)
     return _save(fig, path)
 
 
