@@ -19,7 +19,8 @@ PKG = "epuck_vrep_compat"
 # Bottom first. A module may import from its own group and from any group of a lower layer.
 LAYERS = (
     ("_core", "paths", "msg", "srv"),   # the compiled core, data paths, generated messages
-    ("scene",),                         # scene and model files, registry, transforms, V-REP codes
+    ("compat", "geometry"),             # names and codes once; pure geometry: no ROS, no core
+    ("scene",),                         # scene and model files, registry, placement
     ("devices",),                       # what gives registry objects behaviour
     ("sim",),                           # the simulation and its extension interface
     ("cell",),                          # the industrial cell, an extension of the simulation
@@ -29,7 +30,7 @@ LAYERS = (
     ("experiment",),                    # many runs of clients and the simulator, on Dask
 )
 ROS_LAYERS = (                          # inside ros/, bottom first
-    ("common",),                        # names defined once, throttled log, parameter checks
+    ("common",),                        # throttled log, parameter checks (shared with clients)
     ("transport", "messages", "face"),  # the step batch and wire layouts, builders, protocol
     ("epuck", "vrep_plugin", "cell"),   # the faces: never import each other
     ("node",),                          # the simulator node that holds the faces

@@ -30,13 +30,13 @@ from sensor_msgs.msg import Image, LaserScan
 from std_msgs.msg import Float32
 from visualization_msgs.msg import MarkerArray
 
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
+from epuck_vrep_compat.compat.topics import BLOB_TOPIC_FORMAT, KINECT_DEPTH_IMAGE_TOPIC
 from epuck_vrep_compat.nodes import tracker_geometry as geo
 from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter
 from epuck_vrep_compat.nodes.tracker_kinect import KinectRange
 from epuck_vrep_compat.nodes.tracker_markers import estimate_markers
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import (
-    BLOB_TOPIC_FORMAT, KINECT_DEPTH_IMAGE_TOPIC, WORLD_FRAME)
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 
 

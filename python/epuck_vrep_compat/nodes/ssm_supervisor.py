@@ -30,13 +30,14 @@ from std_msgs.msg import Bool, Float64, String
 from std_srvs.srv import SetBool, SetBoolResponse
 from visualization_msgs.msg import MarkerArray
 
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
+from epuck_vrep_compat.compat.topics import OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC
 from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds
 from epuck_vrep_compat.nodes.ssm_markers import robot_markers
 from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import (
-    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, WORLD_FRAME, ros_robot_name)
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationRequest
 

@@ -19,14 +19,13 @@ import rospy
 from vrep_common.msg import JointSetStateData, ProximitySensorData, VrepInfo
 from vrep_common.srv import simRosEnablePublisher, simRosEnableSubscriber, simRosGetObjectHandle
 
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat import vrep_codes as vc
 
 FORWARD_RAD_S = (3.1415, 3.1415)
 BACKWARD_RAD_S = (-3.1415 * 0.5, -3.1415 * 0.25)
 BACKWARD_DURATION_S = 3.0
 LOOP_PERIOD_S = 0.005          # the original's usleep(5000), wall time
 SERVICE_TIMEOUT_S = 30.0
-SET_MODE_VELOCITY = 2
 
 
 class BubbleRob:
@@ -73,7 +72,7 @@ def _object_handles(get_handle, names):
 def wheel_command(left_handle, right_handle, speeds) -> JointSetStateData:
     msg = JointSetStateData()
     msg.handles.data = [left_handle, right_handle]
-    msg.setModes.data = [SET_MODE_VELOCITY, SET_MODE_VELOCITY]
+    msg.setModes.data = [vc.JOINT_SET_TARGET_VELOCITY] * 2
     msg.values.data = list(speeds)
     return msg
 

@@ -23,12 +23,12 @@ import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
 from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.geometry.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import (
     RobotParts, default_model, next_robot_number, register_epuck)
 from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
-from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
 from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.sim.leds import RobotLeds

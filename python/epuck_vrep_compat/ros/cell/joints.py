@@ -12,8 +12,8 @@ import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.devices.articulated import POSITION, VELOCITY
-from epuck_vrep_compat.ros.common.names import ros_robot_name
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 

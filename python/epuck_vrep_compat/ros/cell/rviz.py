@@ -7,8 +7,9 @@ import rospy
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from epuck_vrep_compat.ros.common.names import (
-    NODE_NAMESPACE, ODOM_FRAME, WORLD_FRAME, ros_robot_name)
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
+from epuck_vrep_compat.compat.frames import ODOM_FRAME, WORLD_FRAME
+from epuck_vrep_compat.compat.topics import NODE_NAMESPACE
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.ros.transport.static_tf import static_transform
 
