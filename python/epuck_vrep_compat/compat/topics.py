@@ -9,6 +9,19 @@ NODE_NAMESPACE = NODE + "/"             # its private namespace: services, strea
 TF_TOPIC = "/tf"
 TF_STATIC_TOPIC = "/tf_static"          # latched: frames fixed to their parent
 CLOCK_TOPIC = "/clock"
+INFO_TOPIC = NODE_NAMESPACE + "info"    # vrep_common/VrepInfo, the legacy plugin's
+# the simulator's own control (std_srvs/Empty)
+PAUSE_SERVICE = NODE_NAMESPACE + "pause"
+UNPAUSE_SERVICE = NODE_NAMESPACE + "unpause"
+RESET_SERVICE = NODE_NAMESPACE + "reset"
+
+# Each cell robot's topics and description, ``robot`` its ROS name (cell_names.ros_robot_name).
+JOINT_STATES_TOPIC = "/{robot}/joint_states"            # sensor_msgs/JointState, out
+JOINT_COMMAND_TOPIC = "/{robot}/joint_command"          # sensor_msgs/JointState, in
+BASE_CMD_VEL_TOPIC = "/{robot}/cmd_vel"                 # geometry_msgs/Twist, a mobile base's
+ROBOT_DESCRIPTION_PARAM = "/{robot}/robot_description"  # its URDF, links named as TF frames
+# The cell's laser scanner, under /vrep/ (the scene file's default; a scene may rename it).
+CELL_LASER_TOPIC = "front_scan"
 
 # The cell's safety interface (issue 13): a supervisor's speed override per robot, in; the
 # operator-to-link separation from the simulator's collision world, a service of /vrep.

@@ -20,6 +20,7 @@ from vrep_common.msg import JointSetStateData, ProximitySensorData, VrepInfo
 from vrep_common.srv import simRosEnablePublisher, simRosEnableSubscriber, simRosGetObjectHandle
 
 from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.topics import INFO_TOPIC, NODE_NAMESPACE
 
 FORWARD_RAD_S = (3.1415, 3.1415)
 BACKWARD_RAD_S = (-3.1415 * 0.5, -3.1415 * 0.25)
@@ -89,15 +90,15 @@ def read_object_names():
 def enable_streams(robot: BubbleRob, sensor: int, rand_id: str):
     """The proximity sensor stream (subscribed) and the wheels' set_joint_state subscriber
     stream; returns the wheels topic. RuntimeError when the simulator refuses either."""
-    enable_publisher = _service("/vrep/simRosEnablePublisher", simRosEnablePublisher)
+    enable_publisher = _service(NODE_NAMESPACE + "simRosEnablePublisher", simRosEnablePublisher)
     topic = enable_publisher(topicName="proxData" + rand_id, queueSize=1,
                              streamCmd=vc.STRMCMD_READ_PROXIMITY_SENSOR, auxInt1=sensor,
                              auxInt2=0, auxString="").effectiveTopicName
     if not topic:
         raise RuntimeError("the simulator could not enable the proximity sensor stream")
-    robot.subscribers.append(rospy.Subscriber("/vrep/" + topic, ProximitySensorData,
+    robot.subscribers.append(rospy.Subscriber(NODE_NAMESPACE + topic, ProximitySensorData,
                                               robot.on_sensor, queue_size=1))
-    enable_subscriber = _service("/vrep/simRosEnableSubscriber", simRosEnableSubscriber)
+    enable_subscriber = _service(NODE_NAMESPACE + "simRosEnableSubscriber", simRosEnableSubscriber)
     wheels_topic = rospy.get_name() + "/wheels"
     subscriber_id = enable_subscriber(topicName=wheels_topic, queueSize=1,
                                       streamCmd=vc.STRMCMD_SET_JOINT_STATE, auxInt1=0, auxInt2=0,
@@ -124,10 +125,10 @@ def drive(robot: BubbleRob, wheels, left: int, right: int):
 
 
 def run(rand_id: str) -> int:
-    handles = _object_handles(_service("/vrep/simRosGetObjectHandle", simRosGetObjectHandle),
-                              read_object_names())
+    get_handle = _service(NODE_NAMESPACE + "simRosGetObjectHandle", simRosGetObjectHandle)
+    handles = _object_handles(get_handle, read_object_names())
     robot = BubbleRob()
-    robot.subscribers.append(rospy.Subscriber("/vrep/info", VrepInfo, robot.on_info,
+    robot.subscribers.append(rospy.Subscriber(INFO_TOPIC, VrepInfo, robot.on_info,
                                               queue_size=1))
     while not rospy.is_shutdown() and not robot.simulation_running:
         time.sleep(LOOP_PERIOD_S)           # wall time: /clock stands still while stopped

@@ -14,6 +14,8 @@ import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Range
 
+from epuck_vrep_compat.compat.epuck_names import PROXIMITY_COUNT, VREP
+
 # Per sensor: weight of its closeness on the turn rate (+ = turn left). Front-right sensors
 # (0, 1, 2) turn left, front-left (5, 6, 7) turn right, rear ones hardly matter.
 TURN_WEIGHTS = (2.0, 1.5, 0.6, 0.1, -0.1, -0.6, -1.5, -2.0)
@@ -52,12 +54,12 @@ class Wanderer:
 
 def main():
     rospy.init_node("wander")
-    robot = rospy.get_param("~robot", "ePuck0")
+    robot = rospy.get_param("~robot", VREP.robot_name(0))
     speed = float(rospy.get_param("~speed_m_s", 0.06))
-    pub = rospy.Publisher(f"/{robot}/cmd_vel", Twist, queue_size=1)
+    pub = rospy.Publisher(VREP.topic(robot, "cmd_vel"), Twist, queue_size=1)
     wanderer = Wanderer(speed, pub)
-    subs = [rospy.Subscriber(f"/{robot}/proximity{k}", Range, wanderer.on_range, k,
-                             queue_size=8) for k in range(8)]
+    subs = [rospy.Subscriber(VREP.topic(robot, f"proximity{k}"), Range, wanderer.on_range, k,
+                             queue_size=8) for k in range(PROXIMITY_COUNT)]
     rospy.spin()
     del subs
     return 0

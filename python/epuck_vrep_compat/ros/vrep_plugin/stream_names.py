@@ -13,10 +13,8 @@ V-REP 3.3.0's ``ROS_server`` (``addPublisher``, ``getPublisherIndexFromCmd``,
 """
 from dataclasses import dataclass
 
-from epuck_vrep_compat.compat.topics import NODE_NAMESPACE
+from epuck_vrep_compat.compat.topics import INFO_TOPIC, NODE_NAMESPACE
 
-INFO_TOPIC = "info"
-INFO_RESOLVED = NODE_NAMESPACE + INFO_TOPIC
 COLLISION_SUFFIX = "_2"
 _MARKS = (("#", "_HASHMARK_"), ("-", "_MINUSMARK_"), ("(", "_OPARENTHESISMARK_"),
           (")", "_CPARENTHESISMARK_"))
@@ -38,7 +36,7 @@ def unique_topic_name(requested: str, taken) -> str:
     """The sanitised name, with ``_2`` appended while ``taken(resolved name)`` is true or the
     name is the always-on ``info`` stream."""
     name = sanitize(requested)
-    while resolve_topic(name) == INFO_RESOLVED or taken(resolve_topic(name)):
+    while resolve_topic(name) == INFO_TOPIC or taken(resolve_topic(name)):
         name += COLLISION_SUFFIX
     return name
 
@@ -99,5 +97,5 @@ class FrameNames:
         self._renamed.clear()
 
 
-__all__ = ["Aux", "FrameNames", "INFO_TOPIC", "NODE_NAMESPACE", "resolve_topic", "sanitize",
-           "stream_identity", "unique_topic_name"]
+__all__ = ["Aux", "FrameNames", "resolve_topic", "sanitize", "stream_identity",
+           "unique_topic_name"]
