@@ -85,6 +85,16 @@ EPUCK2_DRIVER = ProfileNames(
     root_frame_prefix="epuck2_robot_0",      # epuck2_controller.launch's default epuck2_name
 )
 
+# V-REP's e-puck model: its root object's name and its parts' (a copy's carry V-REP's "#k").
+MODEL_ROOT_OBJECT = "ePuck"
+
+
+def model_object_name(part: str) -> str:
+    """The V-REP name of a part of the e-puck model (``leftJoint``: ``ePuck_leftJoint``); the
+    proximity sensors' dummies have no prefix (``dummy_proxSensor0``)."""
+    return part if part.startswith("dummy_") else f"{MODEL_ROOT_OBJECT}_{part}"
+
+
 # Child frames under <robot>/base_link, in the order V-REP's script sends them.
 BASE_FRAME = "base_link"
 PROX_FRAME_FORMAT = "base_prox{i}"

@@ -20,6 +20,7 @@ from vrep_common.msg import JointSetStateData, ProximitySensorData, VrepInfo
 from vrep_common.srv import simRosEnablePublisher, simRosEnableSubscriber, simRosGetObjectHandle
 
 from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.epuck_names import model_object_name
 from epuck_vrep_compat.compat.topics import INFO_TOPIC, NODE_NAMESPACE
 
 FORWARD_RAD_S = (3.1415, 3.1415)
@@ -80,9 +81,9 @@ def wheel_command(left_handle, right_handle, speeds) -> JointSetStateData:
 
 def read_object_names():
     names = {key: rospy.get_param("~" + key, default)
-             for key, default in (("left_joint", "ePuck_leftJoint"),
-                                  ("right_joint", "ePuck_rightJoint"),
-                                  ("sensor", "ePuck_proxSensor0"))}
+             for key, default in (("left_joint", model_object_name("leftJoint")),
+                                  ("right_joint", model_object_name("rightJoint")),
+                                  ("sensor", model_object_name("proxSensor0")))}
     rospy.loginfo("%s: %s", rospy.get_name(), ", ".join(f"{k}={v}" for k, v in names.items()))
     return names
 

@@ -22,6 +22,7 @@ from typing import Callable, List, Sequence
 import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
+from epuck_vrep_compat.compat.epuck_names import VREP
 from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
 from epuck_vrep_compat.geometry.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.scene import registry as reg
@@ -60,7 +61,7 @@ class Simulation:
         self.seed = int(seed)
         self.cmd_timeout_s = float(cmd_timeout_s)
         self.camera = camera if camera is not None else CameraSpec()
-        self.robot_namer = robot_namer if robot_namer is not None else "ePuck{}".format
+        self.robot_namer = robot_namer if robot_namer is not None else VREP.robot_name
         self.model = default_model()
         self.registry = reg.SceneRegistry()
         self.world = CollisionWorld()

@@ -15,9 +15,6 @@ from typing import List, Sequence
 from epuck_vrep_compat.compat.epuck_names import ROOT_NAMESPACE, ProfileNames
 
 _SEGMENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-_CONVENTION = {"vrep": re.compile(r"^ePuck\d+$"),
-               "epuck_driver": re.compile(r"^epuck_robot_\d+$"),
-               "epuck2_driver": re.compile(r"^epuck_robot_\d+$")}
 
 
 def _normalise(entry) -> str:
@@ -56,8 +53,8 @@ def parse_robot_names(value, profile: ProfileNames) -> List[str]:
 
 
 def unconventional_names(names: Sequence[str], profile: ProfileNames) -> List[str]:
-    """The names the original's launch files would not give (they work all the same)."""
-    pattern = _CONVENTION.get(profile.name)
-    if pattern is None:
-        return []
+    """The names the original's launch files would not give (they work all the same): not of
+    the profile's form (``ePuck3``, ``epuck_robot_3``)."""
+    before, _, after = profile.robot_name_format.partition("{index}")
+    pattern = re.compile(rf"^{re.escape(before)}\d+{re.escape(after)}$")
     return [n for n in names if n != ROOT_NAMESPACE and not pattern.match(n)]
