@@ -36,11 +36,14 @@ def gtest_cases(source):
 
 
 def expected_core_cpp():
-    """{test binary name: number of TEST/TEST_F cases} of the core's gtest files
-    (test/core_cpp/*_test.cpp, built as core_cpp_<file name>)."""
+    """{test binary name: number of TEST/TEST_F cases} of the core's gtest files, one folder a
+    room (test/core_cpp/<room>/<name>_test.cpp, built as core_cpp_<room>_<name>_test). Found at
+    any depth: one outside a room's folder, which CMakeLists.txt refuses, counts as not run."""
     expected = {}
-    for source in sorted(glob.glob(os.path.join(REPO, "test", "core_cpp", "*_test.cpp"))):
-        name = "core_cpp_" + os.path.basename(source)[:-len(".cpp")]
+    root = os.path.join(REPO, "test", "core_cpp")
+    for source in sorted(glob.glob(os.path.join(root, "**", "*_test.cpp"), recursive=True)):
+        room = os.path.basename(os.path.dirname(source))
+        name = f"core_cpp_{room}_" + os.path.basename(source)[:-len(".cpp")]
         expected[name] = gtest_cases(source)
     return expected
 

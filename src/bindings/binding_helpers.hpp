@@ -10,7 +10,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 
-#include "epuck_vrep_compat/types.hpp"
+#include "epuck_vrep_compat/world/types.hpp"
 
 namespace evc {
 namespace bindings {

@@ -11,11 +11,11 @@
 #include <pybind11/pybind11.h>
 
 #include "binding_helpers.hpp"
-#include "epuck_vrep_compat/blob_detection.hpp"
-#include "epuck_vrep_compat/collision_world.hpp"
-#include "epuck_vrep_compat/depth_noise.hpp"
-#include "epuck_vrep_compat/laser_scanner.hpp"
-#include "epuck_vrep_compat/ray_proximity.hpp"
+#include "epuck_vrep_compat/sensors/blob_detection.hpp"
+#include "epuck_vrep_compat/sensors/depth_noise.hpp"
+#include "epuck_vrep_compat/sensors/laser_scanner.hpp"
+#include "epuck_vrep_compat/sensors/ray_proximity.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace py = pybind11;
 using namespace py::literals;

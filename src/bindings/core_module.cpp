@@ -11,13 +11,13 @@
 #include <pybind11/stl.h>
 
 #include "binding_helpers.hpp"
-#include "epuck_vrep_compat/collision_world.hpp"
-#include "epuck_vrep_compat/cone_sensor.hpp"
-#include "epuck_vrep_compat/epuck_model.hpp"
-#include "epuck_vrep_compat/epuck_swarm.hpp"
-#include "epuck_vrep_compat/range_noise.hpp"
-#include "epuck_vrep_compat/ray_camera.hpp"
-#include "epuck_vrep_compat/rng.hpp"
+#include "epuck_vrep_compat/epuck/cone_sensor.hpp"
+#include "epuck_vrep_compat/epuck/epuck_model.hpp"
+#include "epuck_vrep_compat/epuck/epuck_swarm.hpp"
+#include "epuck_vrep_compat/epuck/range_noise.hpp"
+#include "epuck_vrep_compat/random/rng.hpp"
+#include "epuck_vrep_compat/render/ray_camera.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace py = pybind11;
 using namespace py::literals;

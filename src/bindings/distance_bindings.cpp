@@ -9,7 +9,7 @@
 #include <pybind11/stl.h>
 
 #include "binding_helpers.hpp"
-#include "epuck_vrep_compat/min_distance.hpp"
+#include "epuck_vrep_compat/world/min_distance.hpp"
 
 namespace py = pybind11;
 using namespace py::literals;

@@ -8,8 +8,8 @@
 #include <pybind11/stl.h>
 
 #include "binding_helpers.hpp"
-#include "epuck_vrep_compat/collision_world.hpp"
-#include "epuck_vrep_compat/tof_sensor.hpp"
+#include "epuck_vrep_compat/epuck/tof_sensor.hpp"
+#include "epuck_vrep_compat/world/collision_world.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;

@@ -10,7 +10,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
-#include "epuck_vrep_compat/batch_writer.hpp"
+#include "epuck_vrep_compat/transport/batch_writer.hpp"
 
 namespace py = pybind11;
 using namespace py::literals;

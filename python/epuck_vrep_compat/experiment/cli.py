@@ -21,13 +21,17 @@ def parse(argv):
     run.add_argument("--scheduler", help="a Dask scheduler's address, e.g. tcp://host:8786 "
                                          "(default: a local cluster)")
     run.add_argument("--workers", type=int, help="local cluster size (default: one per core)")
+    run.add_argument("--seeds", type=int, metavar="N",
+                     help="only the spec's first N seeds (a small try; the rows are the same "
+                          "as in the full experiment's and are kept for it)")
     rep = sub.add_parser("report", help="rebuild the summary, plots and report.md of a folder")
     rep.add_argument("out", help="results folder")
     check = sub.add_parser("check", help="check a spec and list its runs; runs nothing")
     check.add_argument("spec")
     args = parser.parse_args(argv)
-    if getattr(args, "workers", None) is not None and args.workers < 1:
-        parser.error("--workers must be at least 1")
+    for option in ("workers", "seeds"):
+        if getattr(args, option, None) is not None and getattr(args, option) < 1:
+            parser.error(f"--{option} must be at least 1")
     return args
 
 
@@ -61,13 +65,14 @@ def main(argv=None):
     except spec_mod.SpecError as e:
         print(f"experiment: {e}", file=sys.stderr)
         return 2
+    if getattr(args, "seeds", None):
+        spec["seeds"] = spec["seeds"][:args.seeds]
     tasks = plan.tasks(spec)
     if args.command == "check":
         print(f"experiment: {args.spec} is valid: {len(plan.cells(spec['vary']))} cell(s) x "
               f"{len(spec['seeds'])} seed(s) = {len(tasks)} run(s), spec hash {spec['hash']}")
         return 0
     store = results.ResultStore(args.out or os.path.join("results", spec["name"]))
-    store.save_spec(spec)
     print(f"experiment: {spec['name']}: {len(tasks)} run(s), {len(store.done & {t.key for t in tasks})}"
           f" already in {store.out_dir}", file=sys.stderr)
     try:

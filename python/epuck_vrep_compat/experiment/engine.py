@@ -68,6 +68,7 @@ def make_client(scheduler=None, workers=None):
 def run(spec, store, scheduler=None, workers=None, stream=sys.stderr):
     """Runs every run of ``spec`` not yet in ``store``; returns (ok, failed) counts of this
     call. Rows reach ``store`` as they finish."""
+    store.save_spec(spec)
     marker = uuid.uuid4().hex
     tasks = [t for t in plan.tasks(spec, marker) if t.key not in store.done]
     total = len(plan.tasks(spec))

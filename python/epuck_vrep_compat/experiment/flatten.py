@@ -30,7 +30,8 @@ def _fields(cls, prefix=()):
                 out += _fields(sub, path)
             continue
         size = size.rstrip("]")
-        if base in NUMERIC and size and int(size) <= MAX_ARRAY:
+        if base in NUMERIC and size and int(size) <= MAX_ARRAY and \
+                not name.endswith("covariance"):        # Imu's are 9: left out all the same
             for i in range(int(size)):
                 out.append((".".join(map(str, path + (i,))), path + (i,), False))
     return out

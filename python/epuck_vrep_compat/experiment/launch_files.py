@@ -6,13 +6,21 @@ parameters, and starts the ``experiment_probe`` node (required: its end is the r
 """
 import fnmatch
 import os
+import shlex
 import xml.etree.ElementTree as ET
-from xml.sax.saxutils import quoteattr
+from xml.sax.saxutils import escape, quoteattr
 
 import rospkg
 import yaml
 
 PROBE = ("epuck_vrep_compat", "experiment_probe")
+
+
+def package_path(folders, env=None):
+    """ROS_PACKAGE_PATH with ``folders`` first (and not twice)."""
+    old = (env if env is not None else os.environ).get("ROS_PACKAGE_PATH", "")
+    parts = list(folders) + [p for p in old.split(os.pathsep) if p and p not in folders]
+    return os.pathsep.join(parts)
 
 
 def resolve(value, base_dir):
@@ -31,13 +39,22 @@ def resolve(value, base_dir):
 
 
 def declared_args(path):
-    """The names of the ``<arg>`` elements of a launch file (its top level and its groups), or
-    None when it cannot be read (the run will say why)."""
+    """The names of the ``<arg>`` elements of a launch file (its top level and its groups) that
+    an includer may set, or None when it cannot be read (the run will say why). Not the
+    ``<arg>`` given to an ``<include>`` (those set another file's), nor one with a ``value``
+    (a constant: roslaunch refuses to override it)."""
     try:
         root = ET.parse(path).getroot()
     except (OSError, ET.ParseError):
         return None
-    return {a.get("name") for a in root.iter("arg") if a.get("name")}
+    names, scopes = set(), [root]
+    while scopes:
+        for element in scopes.pop():
+            if element.tag == "group":
+                scopes.append(element)
+            elif element.tag == "arg" and element.get("name") and element.get("value") is None:
+                names.add(element.get("name"))
+    return names
 
 
 def find_node(package, node_type):
@@ -97,8 +114,9 @@ def run_launch(run):
 
 
 def _yaml(value):
+    """``value`` as YAML, escaped for the text of an XML element (a string may hold & or <)."""
     text = yaml.safe_dump(value, default_flow_style=True).strip()
-    return text[:-4] if text.endswith("\n...") else text.replace("\n...", "")
+    return escape(text[:-4] if text.endswith("\n...") else text.replace("\n...", ""))
 
 
 def _node(entry):
@@ -120,7 +138,7 @@ def _bag(run):
                        for p in run.record)
     bag = os.path.join(os.path.dirname(run.recording_path), "run.bag")
     return [f'  <node pkg="rosbag" type="record" name="experiment_bag" output="log" '
-            f'args={quoteattr(f"-O {bag} -e {pattern!r}")}/>']
+            f'args={quoteattr(f"-O {shlex.quote(bag)} -e {shlex.quote(pattern)}")}/>']
 
 
 def _probe(run):
@@ -128,5 +146,4 @@ def _probe(run):
                 "topics": run.record, "pace": run.pace}
     return [f'  <node pkg="{PROBE[0]}" type="{PROBE[1]}" name="experiment_probe" '
             'required="true" output="log">',
-            f"    <rosparam>{yaml.safe_dump(settings, default_flow_style=True).strip()}"
-            "</rosparam>", "  </node>"]
+            f"    <rosparam>{_yaml(settings)}</rosparam>", "  </node>"]

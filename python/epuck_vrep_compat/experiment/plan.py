@@ -4,11 +4,12 @@ import copy
 import hashlib
 import itertools
 import json
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from epuck_vrep_compat.experiment import metrics
+from epuck_vrep_compat.experiment import launch_files, metrics
 
 
 @dataclass
@@ -35,6 +36,7 @@ class RunTask:
     world_path: str = None
     attempt: int = 1
     marker: str = ""                   # the experiment's process marker (see runner)
+    package_path: list = field(default_factory=list)   # folders of the user's ROS packages
     recording_path: str = field(default="", repr=False)   # set on the worker
 
     def with_attempt(self, attempt):
@@ -44,7 +46,9 @@ class RunTask:
 
 
 def cells(vary):
-    """The parameter cells of ``vary`` (each a dict name -> value), in a stable order."""
+    """The parameter cells of ``vary`` (each a dict name -> value), in a stable order, each
+    once: a cell twice (a grid's value given twice, random samples alike) would be one run
+    key twice, which the engine cannot tell apart."""
     parts = []
     if "grid" in vary:
         names = list(vary["grid"])
@@ -57,7 +61,8 @@ def cells(vary):
     out = [{}]
     for part in parts:
         out = [{**a, **b} for a in out for b in part]
-    return out
+    # in the order of first appearance (a dict keeps its keys' first insertion)
+    return list({json.dumps(c, sort_keys=True, default=str): c for c in out}.values())
 
 
 def _samples(random):
@@ -94,6 +99,14 @@ def tasks(spec, marker=""):
     return out
 
 
+def _absolute(value, base_dir):
+    """``value`` as an absolute path when it is a relative path to something in ``base_dir``."""
+    if isinstance(value, str) and value and not value.startswith(("/", "$", "~")) and \
+            os.path.exists(os.path.join(base_dir, value)):
+        return os.path.normpath(os.path.join(base_dir, value))
+    return value
+
+
 def _task(spec, cell, seed, marker):
     sim_args = dict(spec["simulator"]["args"])
     declared = spec["simulator"].get("declared") or set()
@@ -109,7 +122,16 @@ def _task(spec, cell, seed, marker):
             sim_args[key] = value
         else:
             entry = by_name[owner]
-            entry["args" if entry["kind"] == "launch" else "params"][key] = value
+            if entry["kind"] == "launch" and key == "launch":
+                entry["launch"] = launch_files.resolve(value, spec["base_dir"])
+            else:
+                entry["args" if entry["kind"] == "launch" else "params"][key] = value
+    # a relative path in an argument means the spec's folder (roslaunch runs in the run's)
+    sim_args = {k: _absolute(v, spec["base_dir"]) for k, v in sim_args.items()}
+    for entry in code:
+        for table in ("args", "params"):
+            if isinstance(entry.get(table), dict):
+                entry[table] = {k: _absolute(v, spec["base_dir"]) for k, v in entry[table].items()}
     # the run's seed and pace go to the simulator; it runs as fast as it can and waits to
     # be started by the probe
     if "seed" in declared:
@@ -119,8 +141,9 @@ def _task(spec, cell, seed, marker):
     if "paused" in declared:
         sim_args["paused"] = True
     needed = metrics.topics_needed(spec["metrics"])
-    # lockstep waits, after each step, for what the code answers and what the metrics read
-    pace = dict(spec["pace"], wait_for=sorted(set(spec["pace"]["wait_for"]) | set(needed)))
+    # lockstep waits, after each step, for what the code answers (it must exist) and for what
+    # the metrics read (those of it that exist: a metric may name alternatives)
+    pace = dict(spec["pace"], also_wait_for=needed)
     record = sorted(set(needed) | set(spec["record"]) | set(spec["pace"]["wait_for"]))
     return RunTask(key=run_key(spec["hash"], cell, seed), experiment=spec["name"],
                    spec_hash=spec["hash"], seed=seed, params=cell,
@@ -128,4 +151,5 @@ def _task(spec, cell, seed, marker):
                    global_params=global_params, duration_s=spec["duration_s"],
                    timeout_s=spec["timeout_s"], record=record, metrics=spec["metrics"],
                    custom=spec["custom"], pace=pace, network=spec["network"],
-                   bag_dir=spec["bag_dir"], world_path=sim_args.get("world"), marker=marker)
+                   bag_dir=spec["bag_dir"], world_path=sim_args.get("world"), marker=marker,
+                   package_path=spec["package_path"])

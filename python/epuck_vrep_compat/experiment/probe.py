@@ -27,7 +27,7 @@ from std_srvs.srv import Empty
 from epuck_vrep_compat.compat.topics import NODE_NAMESPACE, UNPAUSE_SERVICE
 from epuck_vrep_compat.experiment import flatten, metrics
 
-START_TIMEOUT_S = 120.0
+START_TIMEOUT_S = 60.0
 
 
 class Probe:
@@ -60,26 +60,32 @@ class Probe:
 
     # --- start -----------------------------------------------------------------------------
     def subscribe(self, deadline):
-        """Subscribes to every topic matching a pattern once each pattern has a publisher."""
+        """Subscribes to every topic matching a pattern once each ``wait_for`` pattern (what
+        the code must publish) has a publisher; the simulator's topics are there by then."""
         master = rosgraph.Master(rospy.get_name())
         rospy.wait_for_service(UNPAUSE_SERVICE, timeout=max(1.0, deadline - time.monotonic()))
+        required = self.pace.get("wait_for", [])
+        waits = required + self.pace.get("also_wait_for", [])
+        previous = None
         while True:
             types = dict(master.getTopicTypes())
-            missing = [p for p in self.patterns
-                       if not any(fnmatch.fnmatchcase(t, p) for t in types)]
-            if not missing:
+            missing = [p for p in required if not any(fnmatch.fnmatchcase(t, p) for t in types)]
+            # the simulator registers its topics in batches: resolve the patterns once the
+            # list has stopped growing (a metric may name alternatives: /imu or /accel)
+            if not missing and previous == set(types):
                 break
+            previous = set(types)
             if time.monotonic() > deadline:
                 raise RuntimeError(f"no topic matches {missing} (the simulator or the code "
                                    "never published them)")
-            time.sleep(0.05)
+            time.sleep(0.25)
         for topic in sorted(t for t in types if any(fnmatch.fnmatchcase(t, p)
                                                     for p in self.patterns)):
             cls = get_message_class(types[topic])
             self.columns[topic] = flatten.Columns(types[topic], cls)
             self.subs.append(rospy.Subscriber(topic, cls, self.on_message, topic,
                                               queue_size=10000, tcp_nodelay=True))
-            if any(fnmatch.fnmatchcase(topic, p) for p in self.pace.get("wait_for", [])):
+            if any(fnmatch.fnmatchcase(topic, p) for p in waits):
                 self.counts[topic] = 0
         while any(s.get_num_connections() == 0 for s in self.subs):
             if time.monotonic() > deadline:
@@ -156,7 +162,7 @@ def main():
     probe = Probe(settings)
     rospy.Subscriber("/clock", Clock, probe.on_clock, queue_size=100)
     try:
-        probe.subscribe(time.monotonic() + START_TIMEOUT_S)
+        probe.subscribe(time.monotonic() + probe.pace.get("start_timeout_s", START_TIMEOUT_S))
         probe.start()
     except (RuntimeError, rospy.ROSException, rospy.ServiceException) as e:
         rospy.logerr(f"experiment_probe: the run did not start: {e}")

@@ -46,8 +46,10 @@ class ResultStore:
         return {r["run_key"] for r in self.rows}
 
     def add(self, row):
+        # after a crash mid-write the record ends mid-line: the new line must start anew
+        start = "\n" if _ends_mid_line(self.record_path) else ""
         with open(self.record_path, "a") as f:
-            f.write(json.dumps(_plain(row), sort_keys=True) + "\n")
+            f.write(start + json.dumps(_plain(row), sort_keys=True) + "\n")
             f.flush()
             os.fsync(f.fileno())
         self.rows.append(_plain(row))
@@ -85,6 +87,15 @@ class ResultStore:
             return json.load(f)
 
 
+def _ends_mid_line(path):
+    try:
+        with open(path, "rb") as f:
+            f.seek(-1, os.SEEK_END)
+            return f.read(1) != b"\n"
+    except OSError:                     # no record yet, or an empty one
+        return False
+
+
 def _plain(value):
     if isinstance(value, dict):
         return {str(k): _plain(v) for k, v in value.items()}
@@ -102,7 +113,9 @@ def _plain(value):
 def _column(rows, name):
     values = [r.get(name) for r in rows]
     kinds = {type(v) for v in values if v is not None}
-    if kinds <= {int, float} and kinds:
+    if not kinds:                       # NaN everywhere (a metric of one robot's pairs)
+        return pa.array(values, pa.float64())
+    if kinds <= {int, float}:
         return pa.array([float(v) if v is not None else None for v in values], pa.float64()) \
             if float in kinds else pa.array(values, pa.int64())
     if kinds == {bool}:

@@ -63,6 +63,8 @@ def _launch(task, run_dir):
         os.makedirs(os.path.join(ros_home, "log"), exist_ok=True)
         env = isolation.run_environment(os.environ, port, ros_home, task.network, task.marker,
                                         f"{task.marker}:{task.key}:{task.attempt}")
+        if task.package_path:
+            env["ROS_PACKAGE_PATH"] = launch_files.package_path(task.package_path, env)
         job = {"command": ["roslaunch", "--disable-title",
                            "-p", str(port), os.path.join(run_dir, "run.launch")],
                "env": env, "timeout_s": task.timeout_s}
@@ -79,7 +81,7 @@ def _launch(task, run_dir):
             raise
         with open(os.path.join(run_dir, "shepherd.json")) as f:
             outcome = json.load(f)
-        if "Address already in use" not in _tail(run_dir):
+        if "Address already in use" not in _read(os.path.join(run_dir, "launch.log")):
             return outcome
     return outcome
 

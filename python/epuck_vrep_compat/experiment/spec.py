@@ -35,7 +35,8 @@ __all__ = ["SpecError", "load", "check", "spec_hash", "metrics_function"]
 
 NAME_RE = re.compile(r"^[A-Za-z0-9_-]+$")
 CODE_NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-TOP_KEYS = {"name", "description", "simulator", "code", "vary", "seeds", "duration_s",
+TOP_KEYS = {"name", "description", "package_path", "simulator", "code", "vary", "seeds",
+            "duration_s",
             "timeout_s", "metrics", "record", "bag_dir", "pace", "network", "reference"}
 DEFAULT_SIM_LAUNCH = "epuck_vrep_compat/launch/epucks.launch"
 
@@ -61,10 +62,11 @@ def check(raw, lines, base_dir, path="<spec>"):
     problems = checks.Problems(lines)
     if not isinstance(raw, dict):
         raise checks.SpecError(path, ["the spec must be a mapping of keys (name, simulator, code, ...)"])
-    for key in sorted(set(raw) - TOP_KEYS):
+    for key in sorted(set(raw) - TOP_KEYS, key=str):     # YAML keys may be numbers
         problems.add((key,), f"unknown key; the keys are {', '.join(sorted(TOP_KEYS))}")
     spec = {"name": _name(raw, problems), "description": str(raw.get("description", "")),
             "base_dir": base_dir}
+    spec["package_path"] = _package_path(raw.get("package_path", []), problems, base_dir)
     spec["simulator"] = _simulator(raw.get("simulator", {}), problems, base_dir)
     spec["code"] = _code(raw.get("code", []), problems, base_dir)
     spec["vary"] = spec_vary.vary(raw.get("vary", {}), problems, spec)
@@ -95,13 +97,25 @@ def check(raw, lines, base_dir, path="<spec>"):
 
 def spec_hash(spec):
     """What makes a run's result: everything but the list of cells and seeds, the texts and
-    the paths of the outputs (so adding seeds or cells keeps the runs already done)."""
+    the paths of the outputs (so adding seeds or cells keeps the runs already done). Files
+    count by their contents, not where they are: a spec moved, or resumed on another machine
+    with the same files, keeps its runs."""
     keep = {k: v for k, v in spec.items()
             if k not in ("vary", "seeds", "description", "reference", "bag_dir", "base_dir",
-                         "hash", "timeout_s")}
-    keep["simulator"] = {k: v for k, v in spec["simulator"].items() if k != "declared"}
-    keep["code"] = [{k: v for k, v in c.items() if k != "declared"} for c in spec["code"]]
+                         "hash", "timeout_s", "package_path", "custom")}
+    keep["simulator"] = _portable(spec["simulator"])
+    keep["code"] = [_portable(c) for c in spec["code"]]
+    keep["custom"] = {name: src.get("source", src.get("module")) + ":" + src["function"]
+                      for name, src in spec["custom"].items()}
     return hashlib.sha1(json.dumps(keep, sort_keys=True, default=str).encode()).hexdigest()[:12]
+
+
+def _portable(entry):
+    out = {k: v for k, v in entry.items() if k != "declared"}
+    if out.get("launch"):
+        with open(out["launch"], "rb") as f:
+            out["launch"] = hashlib.sha1(f.read()).hexdigest()
+    return out
 
 
 def _name(raw, problems):
@@ -112,11 +126,26 @@ def _name(raw, problems):
     return name
 
 
+def _package_path(raw, problems, base_dir):
+    """Folders of the user's ROS packages (e.g. a class's controllers), searched before
+    ROS_PACKAGE_PATH when the spec is checked and in every run."""
+    if not isinstance(raw, list) or not all(isinstance(p, str) for p in raw):
+        problems.add(("package_path",), "must be a list of folders")
+        return []
+    folders = [os.path.normpath(os.path.join(base_dir, p)) for p in raw]
+    for i, folder in enumerate(folders):
+        if not os.path.isdir(folder):
+            problems.add(("package_path", i), f"no folder {folder}")
+    if folders:
+        os.environ["ROS_PACKAGE_PATH"] = launch_files.package_path(folders)
+    return folders
+
+
 def _simulator(raw, problems, base_dir):
     if not isinstance(raw, dict):
         problems.add(("simulator",), "must be a mapping with 'launch' and 'args'")
-        return {"launch": None, "args": {}, "declared": set()}
-    for key in sorted(set(raw) - {"launch", "args"}):
+        return {"launch": None, "args": {}, "declared": None}    # unknown, not none
+    for key in sorted(set(raw) - {"launch", "args"}, key=str):
         problems.add(("simulator", key), "unknown key; the keys are args, launch")
     launch = _resolve_launch(raw.get("launch", DEFAULT_SIM_LAUNCH), ("simulator", "launch"),
                              problems, base_dir)
@@ -157,7 +186,8 @@ def _code(raw, problems, base_dir):
                                            "to vary its arguments (NAME.arg)")
         elif name in seen:
             problems.add(path + ("name",), f"{name!r} names two entries")
-        seen.add(name)
+        else:
+            seen.add(name)
         kind = [k for k in ("launch", "node") if k in item]
         allowed = {"name", "launch", "args"} if kind == ["launch"] else \
             {"name", "node", "params", "args", "namespace", "remap"}
@@ -178,15 +208,16 @@ def _code_entry(item, kind, path, problems, base_dir):
         entry["args"] = checks.scalar_map(item.get("args", {}), path + ("args",), problems)
         declared = launch_files.declared_args(entry["launch"]) if entry["launch"] else None
         entry["declared"] = declared
-        for name in sorted(set(entry["args"]) - (declared or set(entry["args"]))):
+        for name in sorted(set(entry["args"]) - (set(entry["args"]) if declared is None
+                                                 else declared)):
             problems.add(path + ("args", name), f"not an argument of {item['launch']}")
         return entry
     node = item["node"]
-    if not isinstance(node, str) or node.count("/") != 1 or not all(node.split("/")):
+    valid = isinstance(node, str) and node.count("/") == 1 and all(node.split("/"))
+    entry["package"], entry["type"] = node.split("/") if valid else ("invalid", "invalid")
+    if not valid:       # one problem: no search for an executable it cannot name
         problems.add(path + ("node",), "must be PACKAGE/TYPE, e.g. epuck_vrep_compat/wander")
-        node = "invalid/invalid"
-    entry["package"], entry["type"] = node.split("/")
-    if launch_files.find_node(entry["package"], entry["type"]) is None:
+    elif launch_files.find_node(entry["package"], entry["type"]) is None:
         problems.add(path + ("node",), f"no executable {entry['type']!r} in package "
                                        f"{entry['package']!r}")
     entry["params"] = checks.scalar_map(item.get("params", {}), path + ("params",), problems)

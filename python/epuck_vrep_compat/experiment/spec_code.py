@@ -83,9 +83,10 @@ def pace(raw, problems):
     if not isinstance(raw, dict):
         problems.add(("pace",), "must be {mode: free|lockstep, wait_for: [topics], ...}")
         return {"mode": "lockstep", "wait_for": [], "step_timeout_s": 1.0,
-                "start_grace_s": 0.5, "settle_s": 0.003}
-    allowed = {"mode", "wait_for", "step_timeout_s", "start_grace_s", "settle_s"}
-    for key in sorted(set(raw) - allowed):
+                "start_grace_s": 0.5, "settle_s": 0.003, "start_timeout_s": 60.0}
+    allowed = {"mode", "wait_for", "step_timeout_s", "start_grace_s", "settle_s",
+               "start_timeout_s"}
+    for key in sorted(set(raw) - allowed, key=str):
         problems.add(("pace", key), f"unknown key; the keys are {', '.join(sorted(allowed))}")
     wait_for = raw.get("wait_for", [])
     mode = raw.get("mode", "lockstep")
@@ -98,7 +99,8 @@ def pace(raw, problems):
                                            "patterns (/*/cmd_vel)")
         wait_for = []
     pace = {"mode": mode, "wait_for": wait_for}
-    for key, default in (("step_timeout_s", 1.0), ("start_grace_s", 0.5), ("settle_s", 0.003)):
+    for key, default in (("step_timeout_s", 1.0), ("start_grace_s", 0.5), ("settle_s", 0.003),
+                         ("start_timeout_s", 60.0)):
         value = raw.get(key, default)
         if isinstance(value, bool) or not isinstance(value, (int, float)) or value < 0:
             problems.add(("pace", key), "must be a non-negative number of seconds")

@@ -2,6 +2,8 @@
 set (``sim.ARG``, ``CODE.X``, ``/NAME``) and the seeds."""
 import re
 
+from epuck_vrep_compat.experiment import launch_files
+
 DISTRIBUTIONS = {"uniform": 2, "loguniform": 2, "integers": 2, "choice": None}
 
 
@@ -29,7 +31,7 @@ def vary(raw, problems, spec):
     if not isinstance(raw, dict):
         problems.add(("vary",), "must be a mapping with grid, list and/or random")
         return {}
-    for key in sorted(set(raw) - {"grid", "list", "random"}):
+    for key in sorted(set(raw) - {"grid", "list", "random"}, key=str):
         problems.add(("vary", key), "unknown key; the keys are grid, list, random")
     vary = {}
     if "grid" in raw:
@@ -43,7 +45,9 @@ def vary(raw, problems, spec):
                 if not isinstance(values, list) or not values:
                     problems.add(("vary", "grid", name), "must be a non-empty list of values")
                 else:
-                    vary["grid"][name] = values
+                    vary["grid"][name] = [launch_value(name, v, ("vary", "grid", name, i),
+                                                       problems, spec)
+                                          for i, v in enumerate(values)]
     if "list" in raw:
         cells = raw["list"]
         if not isinstance(cells, list) or not cells or not all(isinstance(c, dict) for c in cells):
@@ -53,6 +57,8 @@ def vary(raw, problems, spec):
             for i, cell in enumerate(cells):
                 for name in cell:
                     target(name, ("vary", "list", i, name), problems, spec)
+                    cell[name] = launch_value(name, cell[name], ("vary", "list", i, name),
+                                              problems, spec)
             vary["list"] = cells
     if "random" in raw:
         vary["random"] = random_samples(raw["random"], problems, spec)
@@ -67,7 +73,7 @@ def random_samples(raw, problems, spec):
         problems.add(path, "must be {samples: N, seed: S, params: {NAME: {uniform: [lo, hi]}}}")
         return {}
     samples, seed = raw.get("samples"), raw.get("seed", 0)
-    if not isinstance(samples, int) or samples <= 0:
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples <= 0:
         problems.add(path + ("samples",), "must be a positive number of samples")
     if not isinstance(seed, int) or seed < 0:
         problems.add(path + ("seed",), "must be a non-negative integer")
@@ -82,10 +88,11 @@ def random_samples(raw, problems, spec):
             if not isinstance(bounds, list) or not bounds:
                 problems.add(sub + (kind,), "must be a non-empty list of values")
         elif not (isinstance(bounds, list) and len(bounds) == 2 and all(
-                isinstance(b, (int, float)) for b in bounds) and bounds[0] < bounds[1]) or (
+                isinstance(b, int if kind == "integers" else (int, float))
+                and not isinstance(b, bool) for b in bounds) and bounds[0] < bounds[1]) or (
                 kind == "loguniform" and bounds[0] <= 0):
-            problems.add(sub + (kind,), "must be [low, high] with low < high"
-                                        + (" and low > 0" if kind == "loguniform" else ""))
+            problems.add(sub + (kind,), "must be [low, high] with low < high" + {
+                "loguniform": " and low > 0", "integers": ", both integers"}.get(kind, ""))
     return {"samples": samples, "seed": seed, "params": raw["params"]}
 
 
@@ -111,8 +118,24 @@ def target(name, path, problems, spec):
         return
     entry = next((c for c in spec["code"] if c.get("name") == owner), None)
     if entry is None:
-        names = ", ".join(["sim"] + [c["name"] for c in spec["code"] if c.get("name")])
+        names = ", ".join(["sim"] + [c["name"] for c in spec["code"]
+                                     if isinstance(c.get("name"), str)])
         problems.add(path, f"{owner!r} is not 'sim' nor a code entry's name ({names})")
-    elif entry["kind"] == "launch" and entry.get("declared") is not None and \
-            key not in entry["declared"]:
+    elif entry["kind"] == "launch" and key != "launch" and entry.get("declared") is not None \
+            and key not in entry["declared"]:
         problems.add(path, f"the launch file of {owner!r} has no argument {key!r}")
+
+
+def launch_value(name, value, path, problems, spec):
+    """A varied ``CODE.launch`` (another launch file for a launch entry: a class of students'
+    controllers) must name a launch file that exists; returns it resolved."""
+    if not isinstance(name, str):        # refused by ``target``
+        return value
+    owner, _, key = name.partition(".")
+    entry = next((c for c in spec["code"] if c.get("name") == owner), None)
+    if key != "launch" or entry is None or entry["kind"] != "launch":
+        return value
+    found = launch_files.resolve(value, spec["base_dir"]) if isinstance(value, str) else None
+    if found is None:
+        problems.add(path, f"launch file {value!r} not found")
+    return value                         # as written: a run's key must not hold a path

@@ -1,0 +1,213 @@
+#include "epuck_vrep_compat/epuck/cone_sensor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "epuck_vrep_compat/world/collision_world.hpp"
+#include "world/body.hpp"
+#include "world/bullet_conversions.hpp"
+
+namespace evc {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+void validate_cone_sensor(const ConeSensor& sensor) {
+  if (!sensor.position_m.allFinite() || !std::isfinite(sensor.yaw_rad) ||
+      !std::isfinite(sensor.pitch_rad)) {
+    throw std::invalid_argument("sensor position, yaw_rad and pitch_rad must be finite");
+  }
+  if (!(sensor.half_angle_rad >= 0.0 && sensor.half_angle_rad < 0.5 * kPi)) {
+    throw std::invalid_argument("half_angle_rad must be in [0, pi/2)");
+  }
+  if (!(sensor.min_range_m >= 0.0 && sensor.min_range_m < sensor.max_range_m &&
+        std::isfinite(sensor.max_range_m))) {
+    throw std::invalid_argument("need 0 <= min_range_m < max_range_m, both finite");
+  }
+  if (sensor.rings < 0) throw std::invalid_argument("rings must be >= 0");
+  if (sensor.azimuths < 2 || sensor.azimuths % 2 != 0) {
+    throw std::invalid_argument("azimuths must be even and >= 2 (0 and pi are sampled)");
+  }
+}
+
+Quat sensor_orientation(const ConeSensor& sensor) {
+  return Quat(Eigen::AngleAxisd(sensor.yaw_rad, Vec3::UnitZ()) *
+              Eigen::AngleAxisd(sensor.pitch_rad, Vec3::UnitY()));
+}
+
+std::vector<Vec3> cone_ray_directions(const ConeSensor& sensor) {
+  std::vector<Vec3> directions;
+  directions.reserve(1 + static_cast<size_t>(sensor.rings) * sensor.azimuths);
+  directions.emplace_back(Vec3::UnitX());
+  for (int ring = 1; ring <= sensor.rings; ++ring) {
+    const double polar = sensor.half_angle_rad * ring / sensor.rings;
+    for (int j = 0; j < sensor.azimuths; ++j) {
+      const double azimuth = 2.0 * kPi * j / sensor.azimuths;
+      // Exact zeros at azimuths 0 and pi keep those rays in the horizontal plane.
+      const double vertical = (2 * j == sensor.azimuths || j == 0) ? 0.0 : std::sin(azimuth);
+      directions.emplace_back(std::cos(polar), std::sin(polar) * std::cos(azimuth),
+                              std::sin(polar) * vertical);
+    }
+  }
+  return directions;
+}
+
+namespace {
+
+// Radius of a sphere about a body's origin that encloses it, rounded up so that the cull
+// below never drops a body that a ray can hit.
+double enclosing_radius(const Primitive& shape) {
+  double squared = shape.radius_m * shape.radius_m;
+  if (shape.kind == Primitive::Kind::kBox) squared = shape.half_extents.length2();
+  if (shape.kind == Primitive::Kind::kCylinder) {
+    squared += shape.half_height_m * shape.half_height_m;
+  }
+  return std::sqrt(squared) * (1.0 + 1e-12);
+}
+
+}  // namespace
+
+ConeCandidate cone_candidate(const Body& body) {
+  return ConeCandidate{&body, to_eigen(body.object->getWorldTransform().getOrigin()),
+                       enclosing_radius(body.primitive)};
+}
+
+// What a cone reads with, kept by its reader so that reading a cone allocates nothing.
+struct ConeReader::Scratch {
+  std::vector<const Body*> in_cone;
+  std::vector<RayTarget> targets;
+  std::vector<Vec3> per_metre;  // per target: toward / min_distance_m, sensor frame
+  std::vector<double> paces;    // per ray, see hit_paces
+  bool touching = false;        // some target touches the sensor
+  double half_angle_rad = -1.0;  // the angle cos_h and sin_h belong to
+  double cos_h = 0.0, sin_h = 0.0;
+};
+
+ConeReader::ConeReader() : scratch_(std::make_unique<Scratch>()) {}
+ConeReader::~ConeReader() = default;
+ConeReader::ConeReader(ConeReader&&) noexcept = default;
+ConeReader& ConeReader::operator=(ConeReader&&) noexcept = default;
+
+namespace {
+
+using ConeScratch = ConeReader::Scratch;
+
+// Keeps the candidates whose bounding spheres reach into the cone: most of a robot's
+// neighbours lie beside or behind a given sensor, and a ray test costs more than this check.
+// A sphere of radius R whose centre is d > R away reaches into the cone when the centre is at
+// most h + asin(R / d) off the axis; both angles lie in [0, pi), so in cosines:
+//     offset · axis + R sin h >= d cos(h + asin(R / d)) + R sin h = cos h sqrt(d^2 - R^2),
+// compared squared when the left side is positive (it is read with a little slack, so that
+// rounding keeps a body rather than drops it).
+void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
+                  const ConeSensor& sensor, ConeScratch& scratch) {
+  const Vec3 axis = sensor_pose.orientation * Vec3::UnitX();
+  scratch.in_cone.clear();
+  for (const ConeCandidate& candidate : candidates) {
+    const double radius = candidate.radius_m;
+    const Vec3 offset = candidate.centre_m - sensor_pose.position_m;
+    const double reach = sensor.max_range_m + radius;
+    const double squared = offset.squaredNorm();
+    if (squared > reach * reach) continue;
+    const double lhs = offset.dot(axis) + scratch.sin_h * radius + 1e-12 * reach;
+    const double inside = squared - radius * radius;  // d^2 - R^2
+    if (inside > 0.0 && (lhs < 0.0 || lhs * lhs < scratch.cos_h * scratch.cos_h * inside)) {
+      continue;
+    }
+    scratch.in_cone.push_back(candidate.body);
+  }
+}
+
+// How soon each ray (unit, sensor frame) may hit a target: target j lies beyond a plane
+// min_distance_m away along toward_j, which ray d reaches after min_distance_m / (d · toward_j)
+// metres, or never if d · toward_j <= 0. So no hit of ray k is nearer than 1 / s_k, with
+//     s_k = max_j (d_k · toward_j) / min_distance_j,
+// and none at all if s_k <= 0. Returns the ray with the largest s_k (the first on a tie), or
+// ray 0 when a target touches the sensor: any ray may then hit at 0, and the first one wins.
+std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& directions,
+                      ConeScratch& scratch) {
+  const std::vector<RayTarget>& targets = scratch.targets;
+  std::vector<Vec3>& per_metre = scratch.per_metre;
+  per_metre.clear();
+  bool touching = false;
+  for (const RayTarget& target : targets) {
+    if (target.min_distance_m <= 0.0) {
+      touching = true;
+      continue;
+    }
+    per_metre.push_back(rotation.transpose() * to_eigen(target.toward) / target.min_distance_m);
+  }
+  scratch.touching = touching;
+  std::vector<double>& paces = scratch.paces;
+  paces.resize(directions.size());
+  std::size_t fastest = 0;
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    double pace = -std::numeric_limits<double>::infinity();
+    for (const Vec3& step : per_metre) pace = std::max(pace, directions[k].dot(step));
+    paces[k] = pace;
+    if (pace > paces[fastest]) fastest = k;
+  }
+  return touching ? 0 : fastest;
+}
+
+// Whether ray k may hit within `limit` (only nearer than it if @p strictly).
+bool may_hit(const ConeScratch& scratch, std::size_t k, double limit, bool strictly) {
+  if (scratch.touching) return !strictly || limit > 0.0;
+  const double reach = scratch.paces[k] * limit;
+  return strictly ? reach > 1.0 : reach >= 1.0;
+}
+
+}  // namespace
+
+ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
+                             const Pose& sensor_pose, const ConeSensor& sensor,
+                             const std::vector<Vec3>& directions) {
+  ConeReading best;
+  ConeScratch& scratch = *scratch_;
+  if (scratch.half_angle_rad != sensor.half_angle_rad) {
+    scratch.half_angle_rad = sensor.half_angle_rad;
+    scratch.cos_h = std::cos(sensor.half_angle_rad);
+    scratch.sin_h = std::sin(sensor.half_angle_rad);
+  }
+  cull_to_cone(candidates, sensor_pose, sensor, scratch);
+  std::vector<RayTarget>& targets = scratch.targets;
+  targets.clear();
+  for (const Body* body : scratch.in_cone) {
+    const RayTarget target = ray_target(*body, sensor_pose.position_m);
+    if (target.min_distance_m <= sensor.max_range_m) targets.push_back(target);
+  }
+  if (targets.empty()) return best;
+  const Eigen::Matrix3d rotation = sensor_pose.orientation.toRotationMatrix();
+  const std::size_t first = hit_paces(rotation, directions, scratch);
+  // The reading is the shortest hit over the rays, the earliest ray on a tie. The ray that may
+  // hit soonest usually finds it at once; every ray that cannot beat the best so far is then
+  // skipped, which changes nothing.
+  std::size_t best_ray = directions.size();
+  const auto try_ray = [&](std::size_t k) {
+    // Ray k wins with a shorter hit, or an equal one if it comes earlier.
+    const double limit = std::min(best.distance_m, sensor.max_range_m);
+    if (!may_hit(scratch, k, limit, false) ||
+        (k > best_ray && !may_hit(scratch, k, best.distance_m, true))) {
+      return;
+    }
+    const RayHit hit = ray_cast_targets(targets, rotation * directions[k], limit);
+    if (hit.handle < 0 || hit.distance_m > best.distance_m ||
+        (hit.distance_m == best.distance_m && k > best_ray)) {
+      return;
+    }
+    best_ray = k;
+    best.distance_m = hit.distance_m;
+    best.handle = hit.handle;
+    best.point_m = directions[k] * hit.distance_m;
+    best.normal = rotation.transpose() * hit.normal;
+  };
+  try_ray(first);
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    if (k != first) try_ray(k);
+  }
+  return best;
+}
+
+}  // namespace evc

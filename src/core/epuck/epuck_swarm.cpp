@@ -1,0 +1,332 @@
+#include "epuck_vrep_compat/epuck/epuck_swarm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "epuck_vrep_compat/epuck/cone_sensor.hpp"
+#include "epuck_vrep_compat/epuck/imu_model.hpp"
+#include "epuck_vrep_compat/world/body_contacts.hpp"
+#include "world/body.hpp"
+
+namespace evc {
+namespace {
+
+// Stream ids of derive_seed; fixed forever, since changing one changes every replay.
+enum Stream : std::uint64_t { kStreamIr = 1, kStreamAccel = 2, kStreamGyro = 3, kStreamSlip = 4 };
+
+// The IR cones see everything a robot can bump into, never the floor under it.
+constexpr int kSensorMask = kGroupStatic | kGroupRobot | kGroupDynamic;
+// How far beyond its cones' reach a robot's list of what they may see extends; the lists
+// last until some robot has moved half of it.
+constexpr double kNearbyMargin_m = 0.03;
+
+void check_shape(const Eigen::Ref<const RowMatrixXd>& values, Eigen::Index rows,
+                 Eigen::Index cols, const char* name) {
+  if (values.rows() != rows || values.cols() != cols) {
+    throw std::invalid_argument(std::string(name) + " must have shape (" + std::to_string(rows) +
+                                ", " + std::to_string(cols) + ")");
+  }
+}
+
+// Standard deviations must be in [0, limit]: a huge finite one (1e308) would carry inf into
+// the pose or the readings as surely as inf itself.
+void check_stddev(const Eigen::Ref<const RowMatrixXd>& values, double limit, const char* name) {
+  if (!((values.array() >= 0.0) && (values.array() <= limit)).all()) {
+    throw std::invalid_argument(std::string(name) + " must be in [0, " + std::to_string(limit) +
+                                "]");
+  }
+}
+
+void check_planar_pose(double x_m, double y_m, double yaw_rad) {
+  if (!(std::abs(x_m) <= kWorldLimit_m && std::abs(y_m) <= kWorldLimit_m) ||
+      !std::isfinite(yaw_rad)) {
+    throw std::invalid_argument("x and y must be within ±1e6 m and yaw finite");
+  }
+}
+
+}  // namespace
+
+EpuckSwarm::EpuckSwarm(CollisionWorld& world, const EpuckModel& model, std::uint64_t seed)
+    : world_(world), model_(model), seed_(seed) {
+  validate_epuck_model(model_);
+  sensor_z_min_m_ = model_.sensors.front().position_m.z();
+  sensor_z_max_m_ = sensor_z_min_m_;
+  for (const ConeSensor& sensor : model_.sensors) {
+    ray_directions_.push_back(cone_ray_directions(sensor));
+    sensor_orientations_.push_back(sensor_orientation(sensor));
+    sensor_reach_m_ =
+        std::max(sensor_reach_m_, sensor.position_m.head<2>().norm() + sensor.max_range_m);
+    sensor_z_min_m_ = std::min(sensor_z_min_m_, sensor.position_m.z() - sensor.max_range_m);
+    sensor_z_max_m_ = std::max(sensor_z_max_m_, sensor.position_m.z() + sensor.max_range_m);
+  }
+}
+
+int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
+  check_planar_pose(x_m, y_m, yaw_rad);
+  Robot robot;
+  robot.handle = handle;
+  robot.pose = Pose2{x_m, y_m, wrap_angle(yaw_rad)};
+  robot.odometry = robot.pose;
+  robot.accel = Vec3(0.0, 0.0, model_.gravity_m_s2);
+  for (const ConeSensor& sensor : model_.sensors) {
+    SensorOutput nothing;
+    nothing.clean_m = nothing.noisy_m = sensor.max_range_m;
+    robot.sensors.push_back(nothing);
+  }
+  robot.ir_noise.assign(model_.sensors.size(), RangeNoise());
+  robot.stream = next_stream_;
+  seed_streams(robot);
+  world_.add_cylinder(handle, model_.body_radius_m, model_.body_height_m, body_pose(robot.pose),
+                      kRobotBodyRgb, kGroupRobot);
+  ++next_stream_;  // only once the body is in: a refused robot takes no stream
+  robots_.push_back(std::move(robot));
+  return size() - 1;
+}
+
+void EpuckSwarm::remove_robot(int index) {
+  const Robot& robot = robot_at(index);
+  // A body someone already took out of the world must not keep the robot in the swarm.
+  if (world_.has(robot.handle)) world_.remove(robot.handle);
+  robots_.erase(robots_.begin() + index);
+}
+
+void EpuckSwarm::seed_streams(Robot& robot) const {
+  robot.ir_rng = Rng(derive_seed(seed_, robot.stream, kStreamIr));
+  robot.accel_rng = Rng(derive_seed(seed_, robot.stream, kStreamAccel));
+  robot.gyro_rng = Rng(derive_seed(seed_, robot.stream, kStreamGyro));
+  robot.slip_rng = Rng(derive_seed(seed_, robot.stream, kStreamSlip));
+}
+
+void EpuckSwarm::reseed(std::uint64_t seed) {
+  seed_ = seed;
+  for (Robot& robot : robots_) seed_streams(robot);
+}
+
+Pose EpuckSwarm::body_pose(const Pose2& pose) const {
+  return Pose{Vec3(pose.x_m, pose.y_m, 0.5 * model_.body_height_m),
+              Quat(Eigen::AngleAxisd(pose.yaw_rad, Vec3::UnitZ()))};
+}
+
+EpuckSwarm::Robot& EpuckSwarm::robot_at(int index) {
+  if (index < 0 || index >= size()) {
+    throw std::out_of_range("robot index " + std::to_string(index) + " out of range");
+  }
+  return robots_[static_cast<std::size_t>(index)];
+}
+
+void EpuckSwarm::set_ir_noise(const Eigen::Ref<const RowMatrixXd>& probability,
+                              const Eigen::Ref<const RowMatrixXd>& mean_m,
+                              const Eigen::Ref<const RowMatrixXd>& stddev_m) {
+  check_shape(probability, size(), sensor_count(), "probability");
+  check_shape(mean_m, size(), sensor_count(), "mean_m");
+  check_shape(stddev_m, size(), sensor_count(), "stddev_m");
+  for (int i = 0; i < size(); ++i) {
+    for (int k = 0; k < sensor_count(); ++k) {
+      const ConeSensor& sensor = model_.sensors[k];
+      validate_range_noise({probability(i, k), mean_m(i, k), stddev_m(i, k)},
+                           sensor.min_range_m, sensor.max_range_m);
+    }
+  }
+  for (int i = 0; i < size(); ++i) {
+    for (int k = 0; k < sensor_count(); ++k) {
+      robots_[i].ir_noise[k] = RangeNoise{probability(i, k), mean_m(i, k), stddev_m(i, k)};
+    }
+  }
+}
+
+void EpuckSwarm::set_imu_noise(const Eigen::Ref<const RowMatrixXd>& accel_stddev,
+                               const Eigen::Ref<const RowMatrixXd>& gyro_stddev) {
+  check_shape(accel_stddev, size(), 3, "accel_stddev");
+  check_shape(gyro_stddev, size(), 3, "gyro_stddev");
+  check_stddev(accel_stddev, kMaxImuStddev, "accel_stddev");
+  check_stddev(gyro_stddev, kMaxImuStddev, "gyro_stddev");
+  for (int i = 0; i < size(); ++i) {
+    robots_[i].accel_stddev = accel_stddev.row(i).transpose();
+    robots_[i].gyro_stddev = gyro_stddev.row(i).transpose();
+  }
+}
+
+void EpuckSwarm::set_imu_bias(const Eigen::Ref<const RowMatrixXd>& accel_bias,
+                              const Eigen::Ref<const RowMatrixXd>& gyro_bias) {
+  check_shape(accel_bias, size(), 3, "accel_bias");
+  check_shape(gyro_bias, size(), 3, "gyro_bias");
+  check_stddev(accel_bias.cwiseAbs(), kMaxImuStddev, "|accel_bias|");
+  check_stddev(gyro_bias.cwiseAbs(), kMaxImuStddev, "|gyro_bias|");
+  for (int i = 0; i < size(); ++i) {
+    robots_[i].accel_bias = accel_bias.row(i).transpose();
+    robots_[i].gyro_bias = gyro_bias.row(i).transpose();
+  }
+}
+
+void EpuckSwarm::set_slip_noise(const Eigen::Ref<const VectorXd>& stddev) {
+  if (stddev.size() != size()) {
+    throw std::invalid_argument("stddev must have shape (" + std::to_string(size()) + ",)");
+  }
+  check_stddev(stddev.transpose(), kMaxSlipStddev, "stddev");
+  for (int i = 0; i < size(); ++i) robots_[i].slip_stddev = stddev[i];
+}
+
+void EpuckSwarm::set_pose(int index, double x_m, double y_m, double yaw_rad) {
+  check_planar_pose(x_m, y_m, yaw_rad);
+  Robot& robot = robot_at(index);
+  robot.pose = Pose2{x_m, y_m, wrap_angle(yaw_rad)};
+  robot.velocity.setZero();
+  robot.has_velocity = false;
+  world_.set_pose(robot.handle, body_pose(robot.pose));
+}
+
+void EpuckSwarm::set_odometry(int index, double x_m, double y_m, double yaw_rad) {
+  check_planar_pose(x_m, y_m, yaw_rad);
+  robot_at(index).odometry = Pose2{x_m, y_m, wrap_angle(yaw_rad)};
+}
+
+void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s) {
+  if (!(dt_s > 0.0 && dt_s <= kMaxStep_s)) throw std::invalid_argument("dt_s must be in (0, 10]");
+  check_shape(wheel_cmd_rad_s, size(), 2, "wheel_cmd");
+  // Fail before changing anything if someone removed a robot body from the world.
+  for (const Robot& robot : robots_) {
+    if (!world_.has(robot.handle)) {
+      throw UnknownHandle("robot body " + std::to_string(robot.handle) +
+                          " was removed from the world");
+    }
+  }
+  // Whether anybody else changed the world since the last step: then what the last step kept
+  // about it (the contact lists, what the cones may see) must be found again.
+  const bool world_changed = !nearby_valid_ || world_.revision() != revision_seen_;
+  nearby_valid_ = false;  // until this step completes
+  std::vector<Pose2> start(robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) start[i] = robots_[i].pose;
+  move_robots(dt_s, wheel_cmd_rad_s);
+
+  std::vector<MovableBody> bodies;
+  bodies.reserve(robots_.size());
+  for (const Robot& robot : robots_) bodies.push_back({robot.handle, body_pose(robot.pose)});
+  resolve_penetrations(world_, bodies, ContactSettings(), &contact_cache_);
+  world_.maintain_broadphase();
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    robots_[i].pose.x_m = bodies[i].pose.position_m.x();
+    robots_[i].pose.y_m = bodies[i].pose.position_m.y();
+  }
+
+  find_nearby(world_changed);
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    Robot& robot = robots_[i];
+    const double yaw_rate =
+        body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m).w_rad_s;
+    const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
+                        (robot.pose.y_m - start[i].y_m) / dt_s, yaw_rate);
+    read_imu(robot, velocity, start[i].yaw_rad, dt_s);
+    read_proximity(robot, nearby_.begin() + nearby_first_[i],
+                   nearby_.begin() + nearby_first_[i + 1]);
+  }
+  revision_seen_ = world_.revision();
+  nearby_valid_ = true;
+  ++frame_;
+}
+
+void EpuckSwarm::move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s) {
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    Robot& robot = robots_[i];
+    const WheelPair command = clamp_wheel_command(
+        {wheel_cmd_rad_s(i, 0), wheel_cmd_rad_s(i, 1)}, model_.max_wheel_speed_rad_s);
+    robot.wheel_speed = apply_wheel_slip(command, robot.slip_stddev, robot.slip_rng);
+    robot.wheel_angle.left += robot.wheel_speed.left * dt_s;
+    robot.wheel_angle.right += robot.wheel_speed.right * dt_s;
+    const Twist2 actual =
+        body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m);
+    robot.pose = integrate_arc(robot.pose, actual, dt_s);
+    robot.odometry_twist =
+        body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
+    robot.odometry = integrate_arc(robot.odometry, robot.odometry_twist, dt_s);
+  }
+}
+
+void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad,
+                          double dt_s) {
+  Vec3 accel_world = Vec3::Zero();
+  if (robot.has_velocity) {
+    accel_world.head<2>() = (velocity.head<2>() - robot.velocity.head<2>()) / dt_s;
+  }
+  robot.velocity = velocity;
+  robot.has_velocity = true;
+  // The velocities are chords of the previous and this step, so their difference belongs to
+  // the instant between them: the start of this step, and the heading the robot had then.
+  const Vec3 force = specific_force(accel_world, yaw_at_start_rad, model_.gravity_m_s2);
+  robot.accel = add_axis_noise(force + robot.accel_bias, robot.accel_stddev, robot.accel_rng);
+  robot.gyro = add_axis_noise(Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias, robot.gyro_stddev,
+                              robot.gyro_rng);
+}
+
+// What each robot's cones may see: what lies in the box its cones can reach, widened by a
+// margin and queried for all robots in one batch. The lists are kept from step to step, like
+// the contact lists (a Verlet list): they hold while nobody else changed the world and no
+// robot has drifted half the margin since, since two robots then close at most the margin,
+// and a robot's body (an upright cylinder) is the same set of points at any heading. Extra
+// candidates change no reading (see ConeReader::read).
+void EpuckSwarm::find_nearby(bool world_changed) {
+  bool rebuild = world_changed || nearby_anchor_m_.size() != robots_.size();
+  const double limit_squared = 0.25 * kNearbyMargin_m * kNearbyMargin_m;
+  for (std::size_t i = 0; !rebuild && i < robots_.size(); ++i) {
+    const Eigen::Vector2d drift(robots_[i].pose.x_m - nearby_anchor_m_[i].x(),
+                                robots_[i].pose.y_m - nearby_anchor_m_[i].y());
+    rebuild = drift.squaredNorm() > limit_squared;
+  }
+  if (!rebuild) return;
+  const double reach_m = sensor_reach_m_ + kNearbyMargin_m;
+  std::vector<BoxQuery> boxes;
+  boxes.reserve(robots_.size());
+  nearby_anchor_m_.resize(robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const Pose2& pose = robots_[i].pose;
+    boxes.push_back(BoxQuery{Vec3(pose.x_m - reach_m, pose.y_m - reach_m, sensor_z_min_m_),
+                             Vec3(pose.x_m + reach_m, pose.y_m + reach_m, sensor_z_max_m_),
+                             robots_[i].handle});
+    nearby_anchor_m_[i] = Eigen::Vector2d(pose.x_m, pose.y_m);
+  }
+  overlap_query_batch(world_, boxes, kSensorMask, nearby_first_, nearby_);
+}
+
+// [@p begin, @p end): what the robot's cones may see (from find_nearby); of these, only what
+// may lie within reach of one of its cones is handed to them.
+void EpuckSwarm::read_proximity(Robot& robot, NearbyIterator begin, NearbyIterator end) {
+  const Pose2& pose = robot.pose;
+  candidates_.clear();
+  for (NearbyIterator it = begin; it != end; ++it) {
+    const ConeCandidate candidate = cone_candidate(**it);
+    // Slack: a body that rounding puts on the edge is kept, never dropped.
+    const double reach_m = sensor_reach_m_ + candidate.radius_m + 1e-9;
+    const double dx = candidate.centre_m.x() - pose.x_m, dy = candidate.centre_m.y() - pose.y_m;
+    if (dx * dx + dy * dy > reach_m * reach_m ||
+        candidate.centre_m.z() - candidate.radius_m > sensor_z_max_m_ + 1e-9 ||
+        candidate.centre_m.z() + candidate.radius_m < sensor_z_min_m_ - 1e-9) {
+      continue;
+    }
+    candidates_.push_back(candidate);
+  }
+  const Quat heading(Eigen::AngleAxisd(pose.yaw_rad, Vec3::UnitZ()));
+  const Vec3 centre(pose.x_m, pose.y_m, 0.0);
+  for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
+    const ConeSensor& sensor = model_.sensors[k];
+    SensorOutput& out = robot.sensors[k];
+    ConeReading reading;  // nothing nearby: skip all ray work
+    reading.distance_m = sensor.max_range_m;
+    if (!candidates_.empty()) {
+      const Pose sensor_pose{centre + heading * sensor.position_m,
+                             heading * sensor_orientations_[k]};
+      reading = cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
+    }
+    out.handle = reading.handle;
+    out.point_m = reading.point_m;
+    out.normal = reading.normal;
+    out.clean_m = reading.handle < 0
+                      ? sensor.max_range_m
+                      : std::clamp(reading.distance_m, sensor.min_range_m, sensor.max_range_m);
+    bool applied = false;
+    out.noisy_m = apply_range_noise(out.clean_m, sensor.min_range_m, sensor.max_range_m,
+                                    robot.ir_noise[k], robot.ir_rng, applied);
+  }
+}
+
+}  // namespace evc

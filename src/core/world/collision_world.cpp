@@ -1,0 +1,218 @@
+#include "epuck_vrep_compat/world/collision_world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <btBulletCollisionCommon.h>
+
+#include "body.hpp"
+#include "bullet_conversions.hpp"
+#include "pose_checks.hpp"
+
+namespace evc {
+namespace {
+
+void check_size(double value, const char* name) {
+  if (!(value > 0.0 && value <= kWorldLimit_m)) {
+    throw std::invalid_argument(std::string(name) + " must be in (0, 1e6] m");
+  }
+}
+
+void check_rgb(const Vec3& rgb) {
+  if (!rgb.allFinite() || rgb.minCoeff() < 0.0 || rgb.maxCoeff() > 1.0) {
+    throw std::invalid_argument("rgb must hold three values in [0, 1]");
+  }
+}
+
+std::unique_ptr<Body> new_body(int handle, int group, const Vec3& rgb) {
+  if (handle < 0) throw std::invalid_argument("handle must be >= 0 (-1 means 'none')");
+  if (!is_single_group(group)) {
+    throw std::invalid_argument("group must be one of GROUP_STATIC, GROUP_ROBOT, GROUP_FLOOR, "
+                                "GROUP_DYNAMIC");
+  }
+  check_rgb(rgb);
+  auto body = std::make_unique<Body>();
+  body->handle = handle;
+  body->group = group;
+  body->rgb = rgb;
+  return body;
+}
+
+// Reports penetrating contacts of one object, with normals turned to point towards it.
+class ContactCollector : public btCollisionWorld::ContactResultCallback {
+ public:
+  ContactCollector(const btCollisionObject* self, int group, std::vector<Contact>& out)
+      : self_(self), out_(out) {
+    m_collisionFilterGroup = group;
+    m_collisionFilterMask = contact_mask(group);
+  }
+
+  btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper* wrapper0,
+                           int, int, const btCollisionObjectWrapper* wrapper1, int,
+                           int) override {
+    if (point.getDistance() >= 0.0) return 0;
+    // Bullet's normal points from object B towards object A.
+    const bool self_is_a = wrapper0->getCollisionObject() == self_;
+    const btCollisionObject* other =
+        self_is_a ? wrapper1->getCollisionObject() : wrapper0->getCollisionObject();
+    const btVector3 normal = self_is_a ? point.m_normalWorldOnB : -point.m_normalWorldOnB;
+    out_.push_back(Contact{static_cast<const Body*>(other->getUserPointer())->handle,
+                           to_eigen(normal), -point.getDistance()});
+    return 0;
+  }
+
+ private:
+  const btCollisionObject* self_;
+  std::vector<Contact>& out_;
+};
+
+}  // namespace
+
+CollisionWorld::CollisionWorld()
+    : configuration_(std::make_unique<btDefaultCollisionConfiguration>()),
+      dispatcher_(std::make_unique<btCollisionDispatcher>(configuration_.get())),
+      // Nothing here consumes broadphase pairs (contacts are queried per object), so a null
+      // pair cache keeps Bullet from storing pairs that nobody would ever clean up.
+      pair_cache_(std::make_unique<btNullPairCache>()),
+      broadphase_(std::make_unique<btDbvtBroadphase>(pair_cache_.get())),
+      world_(std::make_unique<btCollisionWorld>(dispatcher_.get(), broadphase_.get(),
+                                                configuration_.get())) {}
+
+CollisionWorld::~CollisionWorld() {
+  // The Bullet world reads its objects while it is destroyed, so detach them first.
+  for (auto& entry : bodies_) world_->removeCollisionObject(entry.second->object.get());
+}
+
+void CollisionWorld::add_box(int handle, const Vec3& half_extents_m, const Pose& pose,
+                             const Vec3& rgb, int group) {
+  for (int axis = 0; axis < 3; ++axis) check_size(half_extents_m[axis], "half_extents");
+  auto body = new_body(handle, group, rgb);
+  body->primitive.kind = Primitive::Kind::kBox;
+  body->primitive.half_extents = to_bt(half_extents_m);
+  body->shape = std::make_unique<btBoxShape>(to_bt(half_extents_m));
+  add_body(std::move(body), pose);
+}
+
+void CollisionWorld::add_cylinder(int handle, double radius_m, double height_m, const Pose& pose,
+                                  const Vec3& rgb, int group) {
+  check_size(radius_m, "radius");
+  check_size(height_m, "height");
+  auto body = new_body(handle, group, rgb);
+  body->primitive.kind = Primitive::Kind::kCylinder;
+  body->primitive.radius_m = radius_m;
+  body->primitive.half_height_m = 0.5 * height_m;
+  body->shape =
+      std::make_unique<btCylinderShapeZ>(btVector3(radius_m, radius_m, 0.5 * height_m));
+  add_body(std::move(body), pose);
+}
+
+void CollisionWorld::add_sphere(int handle, double radius_m, const Pose& pose, const Vec3& rgb,
+                                int group) {
+  check_size(radius_m, "radius");
+  auto body = new_body(handle, group, rgb);
+  body->primitive.kind = Primitive::Kind::kSphere;
+  body->primitive.radius_m = radius_m;
+  body->shape = std::make_unique<btSphereShape>(radius_m);
+  add_body(std::move(body), pose);
+}
+
+void CollisionWorld::add_body(std::unique_ptr<Body> body, const Pose& pose) {
+  const Pose valid_pose = checked_pose(pose);
+  if (bodies_.count(body->handle) != 0) {
+    throw std::invalid_argument("handle " + std::to_string(body->handle) + " is already used");
+  }
+  body->object = std::make_unique<btCollisionObject>();
+  body->object->setCollisionShape(body->shape.get());
+  body->object->setWorldTransform(to_bt(valid_pose));
+  body->object->setUserPointer(body.get());
+  world_->addCollisionObject(body->object.get(), body->group, contact_mask(body->group));
+  bodies_.emplace(body->handle, std::move(body));
+  ++revision_;
+}
+
+Body& CollisionWorld::find(int handle) const {
+  const auto it = bodies_.find(handle);
+  if (it == bodies_.end()) throw UnknownHandle("no object with handle " + std::to_string(handle));
+  return *it->second;
+}
+
+void CollisionWorld::set_pose(int handle, const Pose& pose) {
+  Body& body = find(handle);
+  body.object->setWorldTransform(to_bt(checked_pose(pose)));
+  world_->updateSingleAabb(body.object.get());
+  ++revision_;
+}
+
+void CollisionWorld::set_poses(const std::vector<int>& handles, const std::vector<Pose>& poses) {
+  if (handles.size() != poses.size()) {
+    throw std::invalid_argument("handles and poses must have the same length");
+  }
+  std::vector<Body*> bodies;
+  std::vector<Pose> valid_poses;
+  bodies.reserve(handles.size());
+  valid_poses.reserve(poses.size());
+  for (std::size_t i = 0; i < handles.size(); ++i) {
+    bodies.push_back(&find(handles[i]));
+    valid_poses.push_back(checked_pose_at(poses, i, "poses"));
+  }
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    bodies[i]->object->setWorldTransform(to_bt(valid_poses[i]));
+    world_->updateSingleAabb(bodies[i]->object.get());
+  }
+  ++revision_;
+}
+
+Pose CollisionWorld::get_pose(int handle) const {
+  return to_pose(find(handle).object->getWorldTransform());
+}
+
+void CollisionWorld::remove(int handle) {
+  Body& body = find(handle);
+  world_->removeCollisionObject(body.object.get());
+  bodies_.erase(handle);
+  ++revision_;
+}
+
+bool CollisionWorld::has(int handle) const { return bodies_.count(handle) != 0; }
+
+const Body& CollisionWorld::body(int handle) const { return find(handle); }
+
+std::vector<int> CollisionWorld::handles() const {
+  std::vector<int> out;
+  out.reserve(bodies_.size());
+  for (const auto& entry : bodies_) out.push_back(entry.first);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void CollisionWorld::set_color(int handle, const Vec3& rgb) {
+  Body& body = find(handle);
+  check_rgb(rgb);
+  body.rgb = rgb;
+}
+
+void CollisionWorld::set_background(const Vec3& rgb) {
+  check_rgb(rgb);
+  background_rgb_ = rgb;
+}
+
+std::vector<Contact> CollisionWorld::contacts(int handle) {
+  const Body& body = find(handle);
+  std::vector<Contact> out;
+  ContactCollector collector(body.object.get(), body.group, out);
+  world_->contactTest(body.object.get(), collector);
+  // Bullet reports in broadphase-tree order, which depends on the history of moves; handle
+  // order makes a replay after a reset resolve contacts bit for bit as the first run did.
+  std::stable_sort(out.begin(), out.end(), [](const Contact& a, const Contact& b) {
+    return a.other_handle < b.other_handle;
+  });
+  return out;
+}
+
+void CollisionWorld::maintain_broadphase() {
+  broadphase_->calculateOverlappingPairs(dispatcher_.get());
+}
+
+}  // namespace evc
