@@ -23,11 +23,11 @@ from std_msgs.msg import Float32MultiArray
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 
-from epuck_vrep_compat.devices.kinematics import load_urdf_chain
+from epuck_vrep_compat.geometry.transforms import quat_from_yaw, quat_rotate
+from epuck_vrep_compat.geometry.urdf_kinematics import load_urdf_chain
 from epuck_vrep_compat.msg import (
     ComauMsg, IrbMsg, YouBotMsg, vett_JointHandles, vett_posOrAssGiunto, vett_posOrRelGiunto,
     vett_proxData)
-from epuck_vrep_compat.scene.transforms import quat_from_yaw, quat_rotate
 from sim_test_helpers import (
     Collector, RosoutGuard, call, handle, sim_time_now, wait_sim_time)
 

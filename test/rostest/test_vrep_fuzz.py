@@ -32,7 +32,7 @@ from hypothesis import HealthCheck, Phase, given, settings
 from roscpp.srv import GetLoggers, SetLoggerLevel
 from vrep_common.msg import VrepInfo
 
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat import vrep_codes as vc
 from sim_test_helpers import PKG
 
 MIN_REQUESTS = 30                 # per service (TESTING.md)

@@ -19,9 +19,9 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 from vrep_common.msg import VrepInfo
 
-from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.compat.vrep_codes import STRMCMD_GET_OBJECT_POSE
+from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.scene.epuck_model import suffix_number
-from epuck_vrep_compat.vrep.constants import STRMCMD_GET_OBJECT_POSE
 from sim_test_helpers import (PKG, Collector, RosoutGuard, simulator_topics, wait_for_message,
                               wait_sim_time)
 

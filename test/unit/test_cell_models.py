@@ -10,9 +10,11 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.compat.cell_names import YOUBOT_WHEELS
+from epuck_vrep_compat.geometry.transforms import (
+    compose, inverse, quat_conj, quat_from_yaw, quat_mul)
+from epuck_vrep_compat.geometry.urdf_kinematics import load_urdf_chain
 from epuck_vrep_compat.scene import robots
-from epuck_vrep_compat.devices.kinematics import load_urdf_chain
-from epuck_vrep_compat.scene.transforms import compose, inverse, quat_conj, quat_from_yaw, quat_mul
 
 MODELS = {"irb140": robots.IRB140, "comau": robots.COMAU_SMART_SIX, "youbot": robots.YOUBOT}
 PRIMITIVES = {"box", "cylinder", "sphere"}
@@ -41,9 +43,9 @@ EXPECTED_JOINTS = {
         "youBotGripperJoint1": ("prismatic", 0.0, 0.0115, 0.1, 1),
         "youBotGripperJoint2": ("prismatic", 0.0, 0.0115, 0.1, 1),
         **{f"rollingJoint_{w}": ("continuous", -math.inf, math.inf, 10, 30)
-           for w in robots.YOUBOT_WHEELS},
+           for w in YOUBOT_WHEELS},
         **{f"rollerJoint_{w}": ("continuous", -math.inf, math.inf, 15, 0)
-           for w in robots.YOUBOT_WHEELS},
+           for w in YOUBOT_WHEELS},
         "youBotGripperPinionJoint": ("revolute", 0.0, 2.3, 20, 0.01)},
 }
 
@@ -226,7 +228,7 @@ def test_youbot_wheels_arm_mount_and_candle_pose():
     joint angles that undo each origin rotation put the arm straight up."""
     chain = load_urdf_chain(robots.YOUBOT.urdf_path)
     frames = chain.forward()
-    for wheel, (sx, sy) in zip(robots.YOUBOT_WHEELS, [(1, 1), (-1, 1), (-1, -1), (1, -1)]):
+    for wheel, (sx, sy) in zip(YOUBOT_WHEELS, [(1, 1), (-1, 1), (-1, -1), (1, -1)]):
         np.testing.assert_allclose(frames[f"youBotWheel_{wheel}"][0],
                                    [sx * 0.228, sy * 0.158, -0.034], atol=1e-12)
     np.testing.assert_allclose(frames["youBotArmLink0"][0], [0.143, 0, 0.046], atol=1e-12)
@@ -306,7 +308,7 @@ def test_youbot_rests_on_its_wheels_while_the_arm_moves(pb, sim, dt, substeps):
     pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=body.client),
                        physicsClientId=body.client)
     targets = control_targets(chain)
-    targets.update({f"rollingJoint_{w}": 0.0 for w in robots.YOUBOT_WHEELS})
+    targets.update({f"rollingJoint_{w}": 0.0 for w in YOUBOT_WHEELS})
     command(body, chain, targets)
     for _ in range(int(round(10.0 / dt))):
         body.step()

@@ -6,10 +6,10 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.scene.cell_file import parse_cell
 from epuck_vrep_compat.devices.operator import WalkingOperator
+from epuck_vrep_compat.geometry.transforms import quat_rotate
+from epuck_vrep_compat.scene.cell_file import parse_cell
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
-from epuck_vrep_compat.scene.transforms import quat_rotate
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WORLDS = os.path.join(HERE, "..", "..", "worlds")

@@ -89,7 +89,7 @@ def declared_services():
     """{service name: .srv file} of every service the repository offers: V-REP's ``simRos*``
     (vrep_common/srv) and those the package's modules declare with ``rospy.Service``
     (``~x`` of the simulator's faces is /vrep/x, of a client node's module /<module>/x)."""
-    from epuck_vrep_compat.ros.common import names
+    from epuck_vrep_compat.compat import topics as names
     services = {"/vrep/" + os.path.basename(p)[:-4]: p
                 for p in glob.glob(os.path.join(REPO, "vrep_common", "srv", "simRos*.srv"))}
     for path in glob.glob(os.path.join(PACKAGE_DIR, "**", "*.py"), recursive=True):

@@ -10,7 +10,7 @@ import pytest
 from epuck_vrep_compat.ros.epuck import epuck2_leds
 from epuck_vrep_compat.ros.epuck import extras_messages as build
 from epuck_vrep_compat.ros.epuck.description import robot_urdf
-from epuck_vrep_compat.ros.epuck.names import EPUCK2_DRIVER, PROFILES
+from epuck_vrep_compat.ros.epuck.profiles import EPUCK2_DRIVER, PROFILES
 from epuck_vrep_compat.ros.epuck.transforms import robot_child_frames
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
 from epuck_vrep_compat.scene.scene_file import SceneError, parse_scene
@@ -127,7 +127,8 @@ def test_laid_out_extra_topics_match_genpy_byte_for_byte():
     import rospy
     from sensor_msgs.msg import Imu
 
-    from epuck_vrep_compat.ros.epuck.extras import _FIELDS, _tilt_quat
+    from epuck_vrep_compat.ros.epuck.extras import _FIELDS
+    from epuck_vrep_compat.ros.epuck.extras_messages import tilt_quat as _tilt_quat
     from epuck_vrep_compat.ros.epuck.extras_wire import TextMarkerCache, sentinel_batch
     accel = np.array([[0.0, 1.0, 9.7], [-0.5, 0.2, 9.8]])
     gyro = np.array([[0.1, 0.2, 0.3], [0.0, 0.0, -1.5]])

@@ -4,11 +4,11 @@ import math
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 from epuck_vrep_compat.scene.scene_file import parse_scene
-from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 from epuck_vrep_compat.sim.control import SimulationControl
 from epuck_vrep_compat.sim.simulation import Simulation
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 from epuck_vrep_compat.vrep.group_data import group_data, vrep_euler_angles
 

@@ -12,7 +12,7 @@ from tf2_msgs.msg import TFMessage
 from epuck_vrep_compat.cell.world import build_simulation
 from epuck_vrep_compat.ros.epuck import camera as camera_module
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
-from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step

@@ -4,10 +4,13 @@ Walks every module of ``python/epuck_vrep_compat`` with ``ast`` (imports inside 
 included, since a lazy import is an import all the same) and fails on an import from a higher
 layer, an import between two groups of one layer, an import circle between modules, or a
 private name (leading underscore) imported from another module. The layer order is written
-once, here: LAYERS, bottom first; inside ``ros`` the same again with ROS_LAYERS.
+once, here: LAYERS, bottom first; inside ``ros`` the same again with ROS_LAYERS. Two rules on
+top: the bottom packages of names and geometry import only Python's library and numpy, and the
+client packages import of the package only those, the messages and other clients.
 """
 import ast
 import os
+import sys
 from collections import defaultdict
 
 import pytest
@@ -19,7 +22,8 @@ PKG = "epuck_vrep_compat"
 # Bottom first. A module may import from its own group and from any group of a lower layer.
 LAYERS = (
     ("_core", "paths", "msg", "srv"),   # the compiled core, data paths, generated messages
-    ("scene",),                         # scene and model files, registry, transforms, V-REP codes
+    ("compat", "geometry"),             # names and codes once; pure geometry: no ROS, no core
+    ("scene",),                         # scene and model files, registry, placement
     ("devices",),                       # what gives registry objects behaviour
     ("sim",),                           # the simulation and its extension interface
     ("cell",),                          # the industrial cell, an extension of the simulation
@@ -29,12 +33,20 @@ LAYERS = (
     ("experiment",),                    # many runs of clients and the simulator, on Dask
 )
 ROS_LAYERS = (                          # inside ros/, bottom first
-    ("common",),                        # names defined once, throttled log, parameter checks
+    ("common",),                        # throttled log, parameter checks (shared with clients)
     ("transport", "messages", "face"),  # the step batch and wire layouts, builders, protocol
     ("epuck", "vrep_plugin", "cell"),   # the faces: never import each other
     ("node",),                          # the simulator node that holds the faces
 )
 PRIVATE_MODULES_ALLOWED = {f"{PKG}._core"}   # the binding, re-exported by the package
+PURE = ("compat", "geometry")           # plain Python (and numpy): every layer and client uses them
+PURE_MAY_IMPORT = set(sys.stdlib_module_names) | {"numpy"}
+CLIENTS = ("thesis", "nodes", "fidelity", "experiment")   # they talk to the simulator by ROS only
+CLIENTS_MAY_IMPORT = PURE + ("msg", "srv") + CLIENTS       # (between clients, as LAYERS allows)
+CLIENT_EXCEPTIONS = {                   # module: why a client may import it
+    f"{PKG}.ros.common.log": "the one throttled log, shared with the simulator node; rospy only",
+    f"{PKG}.ros.common.params": "the one ParamError and parameter validators; rospy only",
+}
 
 
 def module_files():
@@ -168,11 +180,68 @@ def test_no_private_name_imported_from_another_module(graph):
     assert private == [], "\n".join(sorted(private))
 
 
+def outside_imports(path):
+    """The top-level names of every module a file imports that is not ours."""
+    tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            yield from (a.name.split(".")[0] for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            yield node.module.split(".")[0]
+
+
+def pure_import_problems(module, path, is_package):
+    """What a module of compat or geometry imports beyond the library, numpy and its own group."""
+    group = module.split(".")[1]
+    wrong = [f"{module} imports {name}" for name in outside_imports(path)
+             if name not in PURE_MAY_IMPORT | {PKG}]
+    return wrong + [f"{module} imports {target}"
+                    for target, _ in imports_of(module, path, is_package)
+                    if target.split(".")[1:2] != [group]]
+
+
+def test_names_and_geometry_speak_no_ros():
+    """compat and geometry load nothing but Python's library and numpy: no ROS, no core, no
+    other part of the package (so the ROS-free layers stay ROS-free through them)."""
+    wrong = [problem for module, path, is_package in module_files()
+             if module.split(".")[1:2] and module.split(".")[1] in PURE
+             for problem in pure_import_problems(module, path, is_package)]
+    assert wrong == [], "\n".join(sorted(wrong))
+
+
+def client_import_problems(edges):
+    wrong = []
+    for module, targets in edges.items():
+        if module.split(".")[1:2] and module.split(".")[1] in CLIENTS:
+            for target in targets:
+                top = target.split(".")[1] if "." in target else None
+                if top not in CLIENTS_MAY_IMPORT and target not in CLIENT_EXCEPTIONS:
+                    wrong.append(f"{module} imports {target}")
+    return wrong
+
+
+def test_clients_import_only_names_geometry_messages_and_clients(graph):
+    """A client (the thesis's nodes, the examples, the fidelity tools, the experiment runner)
+    talks to the simulator through ROS: of the package it imports compat, geometry, the
+    messages and other clients, never the simulator's layers (CLIENT_EXCEPTIONS says why)."""
+    _, edges, _ = graph
+    wrong = client_import_problems(edges)
+    assert wrong == [], "clients importing the simulator's layers:\n" + "\n".join(sorted(wrong))
+
+
 def test_the_check_sees_a_wrong_import(graph, tmp_path):
-    """The walk itself works: an upward import, a circle and a private name are found."""
+    """The walk itself works: an upward import, a circle, a private name, a client's import of
+    the simulator and a ROS import in compat are found."""
     assert place(f"{PKG}.scene.registry")[0] < place(f"{PKG}.sim.simulation")[0]
     assert place(f"{PKG}.thesis.hub")[1] != place(f"{PKG}.nodes.wander")[1]
     source = tmp_path / "m.py"
     source.write_text("def f():\n    from epuck_vrep_compat.sim.simulation import _x\n")
     assert list(imports_of(f"{PKG}.scene.m", str(source), False)) == [
         (f"{PKG}.sim.simulation", ("_x",))]
+    assert client_import_problems({f"{PKG}.nodes.m": {f"{PKG}.scene.registry",
+                                                      f"{PKG}.compat.topics"}}) == [
+        f"{PKG}.nodes.m imports {PKG}.scene.registry"]
+    source.write_text("import math\nimport rospy\nfrom epuck_vrep_compat import _core\n"
+                      "from epuck_vrep_compat.compat import topics\n")
+    assert pure_import_problems(f"{PKG}.compat.m", str(source), False) == [
+        f"{PKG}.compat.m imports rospy", f"{PKG}.compat.m imports {PKG}"]

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.scene.model_files import MAX_MODEL_FILE_BYTES, ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
 

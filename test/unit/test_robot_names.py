@@ -1,7 +1,7 @@
 """The names list (``~robot_names``): namespaces, the root robot, unusable lists refused."""
 import pytest
 
-from epuck_vrep_compat.ros.epuck.names import EPUCK_DRIVER, PROFILES, VREP
+from epuck_vrep_compat.ros.epuck.profiles import EPUCK_DRIVER, PROFILES, VREP
 from epuck_vrep_compat.ros.epuck.robot_names import parse_robot_names, unconventional_names
 
 

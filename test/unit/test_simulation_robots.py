@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.scene.epuck_model import next_robot_number, suffix_number
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
 from epuck_vrep_compat.sim.cameras import render_robot_cameras

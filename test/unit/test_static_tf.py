@@ -8,7 +8,7 @@ from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
 from epuck_vrep_compat.ros.cell.transforms import CellTransforms
-from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms, static_transform
 from epuck_vrep_compat.scene.scene_file import load_scene

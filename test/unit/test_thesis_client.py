@@ -4,8 +4,8 @@ import pytest
 import rospy
 from vrep_common.srv import simRosGetObjectGroupDataResponse, simRosGetObjectHandleResponse
 
+from epuck_vrep_compat.compat.thesis_names import COMAU, PROX_SENSOR_NAMES, YOUBOT
 from epuck_vrep_compat.thesis import params, vrep_client
-from epuck_vrep_compat.thesis.names import COMAU, PROX_SENSOR_NAMES, YOUBOT
 
 
 @pytest.fixture

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_mul, vrep_euler_angles
+from epuck_vrep_compat.geometry.transforms import quat_from_axis_angle, quat_mul, vrep_euler_angles
 
 
 def rx(a):

@@ -3,11 +3,11 @@ joint poses from group data 9/10."""
 import rospy
 from std_msgs.msg import Header
 
+from epuck_vrep_compat.compat.thesis_names import COMAU, IRB, YOUBOT
 from epuck_vrep_compat.msg import ComauMsg, YouBotMsg, vett_posOrAssGiunto, vett_posOrRelGiunto
 from epuck_vrep_compat.thesis.hub import handles_message, joint_handles_of, look_up
 from epuck_vrep_compat.thesis.joint_names import joint_handles_message
 from epuck_vrep_compat.thesis.joint_poses import parent_frames, poses_by_handle, poses_message
-from epuck_vrep_compat.thesis.names import COMAU, IRB, YOUBOT
 
 
 def test_topic_and_node_names_are_the_theses():

@@ -65,7 +65,7 @@ def test_the_filter_follows_a_walk_and_refuses_an_outlier():
 
 def test_the_kinect_ranges_him_along_its_ray_and_sees_occlusion():
     from epuck_vrep_compat.nodes.tracker_kinect import BODY_CENTRE_M, KinectRange
-    from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_mul
+    from epuck_vrep_compat.geometry.transforms import quat_from_axis_angle, quat_mul
     kinect = KinectRange(57.0)
     # a sensor at 1 m height looking along world +x (its z): y rotation by +90 deg about y
     # maps z to x; then its x (image left) must be world +y: roll about x by -90 deg

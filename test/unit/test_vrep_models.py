@@ -4,11 +4,11 @@ import os
 
 import pytest
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.scene.model_files import ModelFileError, ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.sim.simulation import Simulation
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 
 REPO = os.path.join(os.path.dirname(__file__), "..", "..")

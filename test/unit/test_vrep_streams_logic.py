@@ -16,6 +16,7 @@ from vrep_common.srv import (
     simRosDisablePublisherRequest, simRosDisableSubscriberRequest, simRosEnablePublisherRequest,
     simRosEnableSubscriberRequest)
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.ros.vrep_plugin.stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
 from epuck_vrep_compat.ros.vrep_plugin.stream_subscribers import RawString
@@ -23,7 +24,6 @@ from epuck_vrep_compat.ros.vrep_plugin.streams import VrepStreams
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, STOPPED, SimulationControl
 from epuck_vrep_compat.sim.simulation import Simulation
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
 WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")

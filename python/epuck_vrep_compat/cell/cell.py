@@ -19,7 +19,7 @@ from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinec
 from epuck_vrep_compat.devices.link_collisions import LinkCollisions
 from epuck_vrep_compat.devices.operator import add_operator
 from epuck_vrep_compat.devices.ray_proximity import RayProximityBank
-from epuck_vrep_compat.scene.transforms import yaw_of
+from epuck_vrep_compat.geometry.transforms import yaw_of
 from epuck_vrep_compat.sim.extension import SimulationExtension
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).

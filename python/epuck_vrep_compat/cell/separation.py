@@ -12,7 +12,7 @@ from typing import List
 import numpy as np
 
 from epuck_vrep_compat._core import ConvexShape
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, compose, inverse
+from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, compose, inverse
 
 
 @dataclass

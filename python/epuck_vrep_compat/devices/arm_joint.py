@@ -4,9 +4,9 @@
 """
 import math
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.devices.components import ComponentError, wrap_angle
-from epuck_vrep_compat.devices.kinematics import Joint
-from epuck_vrep_compat.scene import vrep_codes as vc
+from epuck_vrep_compat.geometry.urdf_kinematics import Joint
 
 POSITION = "position"
 VELOCITY = "velocity"

@@ -17,14 +17,15 @@ from typing import Dict, List, Optional
 import numpy as np
 import pybullet as pb
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.devices.arm_joint import POSITION, VELOCITY, ArmJoint
-from epuck_vrep_compat.devices.kinematics import load_urdf_chain
 from epuck_vrep_compat.devices.link_collisions import Collision, parse_collisions
 from epuck_vrep_compat.devices.mecanum import (
     MAX_WHEEL_SPEED_M_S, WHEEL_LX_PLUS_LY_M, WHEELS, body_twist, wheel_speeds)
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import (
+from epuck_vrep_compat.geometry.transforms import (
     IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_yaw, quat_mul, quat_rotate)
+from epuck_vrep_compat.geometry.urdf_kinematics import load_urdf_chain
+from epuck_vrep_compat.scene import registry as reg
 
 
 def _z_to_axis(axis):
@@ -87,7 +88,7 @@ class ArticulatedRobot:
 
     # --- registry ---------------------------------------------------------------------------
     def _register(self, registry, movable):
-        base = registry.add(self.spec.name, reg.SHAPE, reg.WORLD, robot=self.spec.name,
+        base = registry.add(self.spec.name, vc.OBJECT_SHAPE, vc.WORLD, robot=self.spec.name,
                             part="base", pose_source=self.base_pose)
         self.objects[self.chain.root] = base
         movable_index = {j.name: k for k, j in enumerate(movable)}
@@ -95,20 +96,20 @@ class ArticulatedRobot:
             parent = self.objects[j.parent]
             if j.joint_type == "fixed":
                 self.objects[j.child] = registry.add(
-                    j.child + self.suffix, reg.SHAPE, parent.handle, j.origin_position, j.origin_quat,
-                    robot=self.spec.name, part=j.child)
+                    j.child + self.suffix, vc.OBJECT_SHAPE, parent.handle, j.origin_position,
+                    j.origin_quat, robot=self.spec.name, part=j.child)
                 continue
             align = _z_to_axis(j.axis)
             k = movable_index[j.name]
-            joint_obj = registry.add(j.name + self.suffix, reg.JOINT, parent.handle, j.origin_position,
-                                     quat_mul(j.origin_quat, align), robot=self.spec.name,
-                                     part=j.name)
+            joint_obj = registry.add(j.name + self.suffix, vc.OBJECT_JOINT, parent.handle,
+                                     j.origin_position, quat_mul(j.origin_quat, align),
+                                     robot=self.spec.name, part=j.name)
             component = ArmJoint(self, k, j)
             joint_obj.properties["joint"] = component
             self.joints.append(component)
             self.objects[j.child] = registry.add(
-                j.child + self.suffix, reg.SHAPE, joint_obj.handle, robot=self.spec.name, part=j.child,
-                pose_source=self._link_pose_source(k, component.prismatic, align))
+                j.child + self.suffix, vc.OBJECT_SHAPE, joint_obj.handle, robot=self.spec.name,
+                part=j.child, pose_source=self._link_pose_source(k, component.prismatic, align))
 
     def _link_pose_source(self, k, prismatic, align):
         back = inverse(np.zeros(3), align)[1]

@@ -1,6 +1,6 @@
 """The cell's vision sensors, as the ``/vrep`` services read them: V-REP's "entity to render"
-mask, depth noise and blob filter; V-REP's 12-value object matrices as poses (the thesis's camera
-calibration); and the fixed sensors (laser scanner, ceiling cameras, Kinect) put into a scene.
+mask, depth noise and blob filter; and the fixed sensors (laser scanner, ceiling cameras, Kinect)
+put into a scene, the cameras at V-REP's 12-value object matrices (the thesis's calibration).
 """
 import math
 
@@ -8,43 +8,15 @@ import numpy as np
 
 from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL, GROUP_DYNAMIC, GROUP_STATIC
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.devices.components import VISION_TO_CAMERA, CameraSpec, VisionSensor
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import quat_conj, quat_from_axis_angle, quat_from_rpy
+from epuck_vrep_compat.geometry.transforms import (
+    pose_from_vrep_matrix, quat_conj, quat_from_axis_angle, quat_from_rpy)
 
 # V-REP vision sensors look along +z with +y up; the Kinect's body frame is x forward, z up:
 # vision z = body x, vision x = body y, vision y = body z (the inverse of the vision-to-camera
 # turn, since the core's camera frame is the body frame).
 BODY_TO_VISION = quat_conj(VISION_TO_CAMERA)
-
-
-def quat_from_matrix(m):
-    """Unit quaternion (x, y, z, w) of a 3x3 rotation matrix (re-orthonormalised first)."""
-    u, _, vt = np.linalg.svd(np.asarray(m, dtype=float))
-    r = u @ vt
-    if np.linalg.det(r) < 0:
-        u[:, -1] *= -1.0
-        r = u @ vt
-    t = np.trace(r)
-    if t > 0:
-        s = 2.0 * math.sqrt(t + 1.0)
-        q = ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, 0.25 * s)
-    else:
-        i = int(np.argmax(np.diag(r)))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * math.sqrt(1.0 + r[i, i] - r[j, j] - r[k, k])
-        q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
-        q[i] = 0.25 * s
-        q[j] = (r[j, i] + r[i, j]) / s
-        q[k] = (r[k, i] + r[i, k]) / s
-    q = np.array(q)
-    return q / np.linalg.norm(q)
-
-
-def pose_from_vrep_matrix(values):
-    """V-REP's 12-value object matrix (rows of [R | t]) to (position, quaternion)."""
-    m = np.asarray(values, dtype=float).reshape(3, 4)
-    return m[:, 3].copy(), quat_from_matrix(m[:, :3])
 
 
 class CellVision(VisionSensor):
@@ -80,7 +52,7 @@ def add_laser(s, registry, world, seed: int):
     """The planar laser scanner of ``s`` (a LaserSpec): its housing (50 x 50 x 70 mm around the
     scan origin, which the scan ignores) into the scene. Returns (housing handle, the core's
     LaserScanner seeded with ``seed``)."""
-    obj = registry.add(s.name, reg.SHAPE, reg.WORLD, s.position_m,
+    obj = registry.add(s.name, vc.OBJECT_SHAPE, vc.WORLD, s.position_m,
                        quat_from_axis_angle((0, 0, 1), s.yaw_rad),
                        properties=dict(shape="box", color=(0.1, 0.1, 0.1)))
     world.add_box(obj.handle, np.array([0.025, 0.025, 0.035]), np.asarray(s.position_m),
@@ -96,7 +68,7 @@ def add_ceiling_camera(sim, c, operator_name):
     scene; ``operator_name``: the operator's name, or None when there is no operator (a camera
     may render only it). Returns its CellVision."""
     position, quat = pose_from_vrep_matrix(c.matrix)
-    obj = sim.registry.add(c.name, reg.VISION_SENSOR, reg.WORLD, position, quat)
+    obj = sim.registry.add(c.name, vc.OBJECT_VISION_SENSOR, vc.WORLD, position, quat)
     w, h = c.resolution
     # V-REP's perspective angle spans the larger image side
     half = math.tan(0.5 * c.angle_rad) * (h / max(w, h))
@@ -117,7 +89,7 @@ def add_kinect(sim, k, seed: int):
     """The Kinect of ``k`` (a KinectSpec): its body and two vision sensors (depth with the
     core's DepthNoise seeded with ``seed``, rgb) in the scene. Returns (body handle, depth
     CellVision, rgb CellVision, DepthNoise)."""
-    base = sim.registry.add(k.name, reg.SHAPE, reg.WORLD, k.position_m,
+    base = sim.registry.add(k.name, vc.OBJECT_SHAPE, vc.WORLD, k.position_m,
                             quat_from_rpy(*k.rpy_rad),
                             properties=dict(shape="box", color=(0.15, 0.15, 0.15)))
     w, h = k.resolution
@@ -127,7 +99,7 @@ def add_kinect(sim, k, seed: int):
     depth_noise = _core.DepthNoise(seed=seed)
     sensors = []
     for suffix, offset_y, noise in (("_depth", -0.0125, depth_noise), ("_rgb", 0.0125, None)):
-        obj = sim.registry.add(k.name + suffix, reg.VISION_SENSOR, base.handle,
+        obj = sim.registry.add(k.name + suffix, vc.OBJECT_VISION_SENSOR, base.handle,
                                (0.0, offset_y, 0.0), BODY_TO_VISION)
         vision = CellVision(sim, obj.handle, spec, depth_noise=noise)
         obj.properties["vision"] = vision

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from epuck_vrep_compat.scene import vrep_codes as vc
-from epuck_vrep_compat.scene.transforms import quat_mul
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import quat_mul
 
 
 class ComponentError(ValueError):

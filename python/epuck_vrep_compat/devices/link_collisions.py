@@ -8,8 +8,9 @@ from typing import Dict, List
 import numpy as np
 
 from epuck_vrep_compat._core import GROUP_ROBOT
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, quat_from_rpy, quat_mul, quat_rotate
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import (
+    IDENTITY_QUAT, quat_from_rpy, quat_mul, quat_rotate)
 
 
 @dataclass
@@ -82,7 +83,7 @@ def _collision_handle(registry, link_obj, k, robot):
     while registry.handle_of(name) >= 0:
         k += 1
         name = f"{link_obj.name}_collision{k}"
-    return registry.add(name, reg.SHAPE, link_obj.handle, robot=robot, part=name).handle
+    return registry.add(name, vc.OBJECT_SHAPE, link_obj.handle, robot=robot, part=name).handle
 
 
 class LinkCollisions:

@@ -6,8 +6,8 @@ import math
 import numpy as np
 
 from epuck_vrep_compat._core import GROUP_DYNAMIC
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, quat_from_yaw
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, quat_from_yaw
 
 
 class WalkingOperator:
@@ -68,11 +68,11 @@ def add_operator(spec, registry, world):
     pose follows the walk) and head (a sphere on it), in the registry and the collision world.
     Returns (the WalkingOperator, (body handle, head handle))."""
     operator = WalkingOperator(spec)
-    base = registry.add(spec.name, reg.SHAPE, reg.WORLD, pose_source=operator.pose,
+    base = registry.add(spec.name, vc.OBJECT_SHAPE, vc.WORLD, pose_source=operator.pose,
                         properties=dict(shape="cylinder", color=spec.color))
     world.add_cylinder(base.handle, spec.body_radius_m, spec.body_height_m, np.zeros(3),
                        IDENTITY_QUAT, spec.color, GROUP_DYNAMIC)
-    head = registry.add(spec.name + "_head", reg.SHAPE, base.handle,
+    head = registry.add(spec.name + "_head", vc.OBJECT_SHAPE, base.handle,
                         (0.0, 0.0, operator.head_centre_z),
                         properties=dict(shape="sphere", color=spec.color))
     world.add_sphere(head.handle, spec.head_radius_m, np.zeros(3), IDENTITY_QUAT, spec.color,

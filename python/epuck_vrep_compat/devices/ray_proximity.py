@@ -6,10 +6,9 @@ import numpy as np
 
 from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.devices.link_collisions import world_poses
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene import vrep_codes as vc
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, quat_from_rpy
+from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, quat_from_rpy
 
 
 class RayProximity:
@@ -48,7 +47,7 @@ class RayProximityBank:
         for p in specs:
             arm, _ = link_row(p.parent)
             quat = quat_from_rpy(*p.rpy_rad)
-            obj = registry.add(p.name, reg.PROXIMITY_SENSOR, arm.objects[p.parent].handle,
+            obj = registry.add(p.name, vc.OBJECT_PROXIMITY_SENSOR, arm.objects[p.parent].handle,
                                p.position_m, quat, robot=arm.spec.name, part=p.name)
             component = RayProximity(self, len(self._entries))
             obj.properties["proximity"] = component

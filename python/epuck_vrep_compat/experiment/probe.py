@@ -24,6 +24,7 @@ from rosgraph_msgs.msg import Clock
 from roslib.message import get_message_class
 from std_srvs.srv import Empty
 
+from epuck_vrep_compat.compat.topics import NODE_NAMESPACE, UNPAUSE_SERVICE
 from epuck_vrep_compat.experiment import flatten, metrics
 
 START_TIMEOUT_S = 60.0
@@ -63,7 +64,7 @@ class Probe:
         """Subscribes to every topic matching a pattern once each ``wait_for`` pattern (what
         the code must publish) has a publisher; the simulator's topics are there by then."""
         master = rosgraph.Master(rospy.get_name())
-        rospy.wait_for_service("/vrep/unpause", timeout=max(1.0, deadline - time.monotonic()))
+        rospy.wait_for_service(UNPAUSE_SERVICE, timeout=max(1.0, deadline - time.monotonic()))
         required = self.pace.get("wait_for", [])
         waits = required + self.pace.get("also_wait_for", [])
         previous = None
@@ -96,8 +97,8 @@ class Probe:
         time.sleep(self.pace.get("start_grace_s", 0.5))
         if self.pace["mode"] == "lockstep":
             from vrep_common.srv import simRosSynchronous
-            rospy.ServiceProxy("/vrep/simRosSynchronous", simRosSynchronous)(enable=1)
-        rospy.ServiceProxy("/vrep/unpause", Empty)()
+            rospy.ServiceProxy(NODE_NAMESPACE + "simRosSynchronous", simRosSynchronous)(enable=1)
+        rospy.ServiceProxy(UNPAUSE_SERVICE, Empty)()
 
     # --- the run ---------------------------------------------------------------------------
     def run_free(self):
@@ -107,8 +108,8 @@ class Probe:
 
     def run_lockstep(self):
         from vrep_common.srv import simRosSynchronousTrigger
-        trigger = rospy.ServiceProxy("/vrep/simRosSynchronousTrigger", simRosSynchronousTrigger,
-                                     persistent=True)
+        trigger = rospy.ServiceProxy(NODE_NAMESPACE + "simRosSynchronousTrigger",
+                                     simRosSynchronousTrigger, persistent=True)
         timeout = self.pace.get("step_timeout_s", 1.0)
         settle_s = self.pace.get("settle_s", 0.003)
         required = dict.fromkeys(self.counts, 0)
@@ -144,7 +145,7 @@ class Probe:
             clock = self.clock
         metrics.save_recording(self.out + ".tmp.npz", recording)
         os.replace(self.out + ".tmp.npz", self.out)
-        world = rospy.get_param("/vrep/world", "")
+        world = rospy.get_param(NODE_NAMESPACE + "world", "")
         self.times["done"] = time.time()
         info = {"status": status, "message": message, "sim_time_s": clock,
                 "times": self.times,

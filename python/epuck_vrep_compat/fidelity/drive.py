@@ -9,6 +9,7 @@ import sys
 import rospy
 from geometry_msgs.msg import Twist
 
+from epuck_vrep_compat.compat.epuck_names import VREP
 from epuck_vrep_compat.fidelity.scenarios import SCENARIOS
 
 
@@ -19,7 +20,8 @@ def main():
         rospy.logfatal(f"parameter '~scenario' must be one of {sorted(SCENARIOS)}, got {name!r}")
         return 2
     scenario = SCENARIOS[name]
-    pub = rospy.Publisher(rospy.get_param("~cmd_vel", "/ePuck0/cmd_vel"), Twist, queue_size=10)
+    cmd_vel = rospy.get_param("~cmd_vel", VREP.topic(VREP.robot_name(0), "cmd_vel"))
+    pub = rospy.Publisher(cmd_vel, Twist, queue_size=10)
     rate = rospy.Rate(20.0)
     start = None
     while not rospy.is_shutdown():

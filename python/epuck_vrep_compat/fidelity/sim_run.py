@@ -22,7 +22,10 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
 from std_srvs.srv import Empty
 
-ROBOT = "ePuck0"
+from epuck_vrep_compat.compat.epuck_names import PROXIMITY_COUNT, VREP
+from epuck_vrep_compat.compat.topics import CLOCK_TOPIC, UNPAUSE_SERVICE
+
+ROBOT = VREP.robot_name(0)
 START_TIMEOUT_S = 120.0       # wall time for a simulator to publish its first /clock
 
 
@@ -48,12 +51,12 @@ class SimulatorRun:
                                     start_new_session=True)
         proc.log_path = log_path
         self._bag = rosbag.Bag(self.bag_path, "w")
-        subs = [rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=100)]
-        subs += [rospy.Subscriber(f"/{ROBOT}/proximity{k}", Range, self._write,
-                                  f"/{ROBOT}/proximity{k}", queue_size=1000) for k in range(8)]
-        subs.append(rospy.Subscriber(f"/{ROBOT}/imu", Imu, self._write, f"/{ROBOT}/imu",
-                                     queue_size=1000))
-        pub = rospy.Publisher(f"/{ROBOT}/cmd_vel", Twist, queue_size=10)
+        subs = [rospy.Subscriber(CLOCK_TOPIC, Clock, self._on_clock, queue_size=100)]
+        roles = [(f"proximity{k}", Range) for k in range(PROXIMITY_COUNT)] + [("imu", Imu)]
+        for role, kind in roles:
+            topic = VREP.topic(ROBOT, role)
+            subs.append(rospy.Subscriber(topic, kind, self._write, topic, queue_size=1000))
+        pub = rospy.Publisher(VREP.topic(ROBOT, "cmd_vel"), Twist, queue_size=10)
         try:
             self._wait_start(proc, subs, pub)
             self._drive(pub, duration_s, commands)
@@ -85,8 +88,8 @@ class SimulatorRun:
         while any(s.get_num_connections() == 0 for s in subs[1:] + [pub]):
             self._check_alive(proc, deadline)
             time.sleep(0.01)
-        rospy.wait_for_service("/vrep/unpause", timeout=START_TIMEOUT_S)
-        rospy.ServiceProxy("/vrep/unpause", Empty)()
+        rospy.wait_for_service(UNPAUSE_SERVICE, timeout=START_TIMEOUT_S)
+        rospy.ServiceProxy(UNPAUSE_SERVICE, Empty)()
         while self.now() <= 0.0:
             self._check_alive(proc, deadline)
             time.sleep(0.01)

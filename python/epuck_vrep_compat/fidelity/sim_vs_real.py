@@ -18,6 +18,7 @@ import sys
 import numpy as np
 import rospy
 
+from epuck_vrep_compat.compat.epuck_names import VREP
 from epuck_vrep_compat.fidelity import report
 from epuck_vrep_compat.fidelity.bag_data import (BagError, choose_robot, read_scenario_bag,
                                                  read_series)
@@ -58,7 +59,7 @@ def simulate(args, scenario, series, noise_path):
         bag = os.path.join(args.output, f"{label}.bag")
         SimulatorRun(label, world, launch_args + [f"cmd_vel_scaling:={scaling}"], bag).run(
             series.duration_s, commands, args.seed, args.rtf)
-        out[label] = read_series(bag, choose_robot(bag, "ePuck0"))
+        out[label] = read_series(bag, choose_robot(bag, VREP.robot_name(0)))
     return out
 
 

@@ -15,6 +15,8 @@ import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist
 
+from epuck_vrep_compat.compat.epuck_names import BASE_FRAME, VREP
+
 
 def control(x: float, y: float, gap_m: float, k_linear: float, k_angular: float,
             max_linear: float, max_angular: float):
@@ -28,8 +30,8 @@ def control(x: float, y: float, gap_m: float, k_linear: float, k_angular: float,
 
 def main():
     rospy.init_node("follow_the_leader")
-    leader = rospy.get_param("~leader_frame", "ePuck0/base_link")
-    follower = rospy.get_param("~follower_frame", "ePuck1/base_link")
+    leader = rospy.get_param("~leader_frame", VREP.frame(VREP.robot_name(0), BASE_FRAME))
+    follower = rospy.get_param("~follower_frame", VREP.frame(VREP.robot_name(1), BASE_FRAME))
     gains = dict(gap_m=float(rospy.get_param("~gap_m", 0.12)),
                  k_linear=float(rospy.get_param("~k_linear", 3.0)),
                  k_angular=float(rospy.get_param("~k_angular", 3.0)),
@@ -39,7 +41,8 @@ def main():
     if rate_hz <= 0.0 or not math.isfinite(rate_hz):
         rospy.logfatal("parameter '~rate_hz' must be a positive number, got %s", rate_hz)
         return 2
-    pub = rospy.Publisher(rospy.get_param("~cmd_vel", "/ePuck1/cmd_vel"), Twist, queue_size=1)
+    cmd_vel = rospy.get_param("~cmd_vel", VREP.topic(VREP.robot_name(1), "cmd_vel"))
+    pub = rospy.Publisher(cmd_vel, Twist, queue_size=1)
     buffer = tf2_ros.Buffer()
     tf2_ros.TransformListener(buffer)
     rospy.loginfo("follow_the_leader: %s follows %s (%s)", follower, leader, gains)

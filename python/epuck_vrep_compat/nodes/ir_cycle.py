@@ -15,7 +15,7 @@ import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Range
 
-SENSORS = 8
+from epuck_vrep_compat.compat.epuck_names import PROXIMITY_COUNT, VREP
 
 
 class IrCycle:
@@ -23,9 +23,9 @@ class IrCycle:
 
     def __init__(self, control, publisher):
         self.control, self.publisher = control, publisher
-        self.ranges = [math.inf] * SENSORS
-        self.max_range = [0.0] * SENSORS
-        self.stamps = [None] * SENSORS
+        self.ranges = [math.inf] * PROXIMITY_COUNT
+        self.max_range = [0.0] * PROXIMITY_COUNT
+        self.stamps = [None] * PROXIMITY_COUNT
         self.last = None
         self.lock = threading.Lock()
 
@@ -56,11 +56,11 @@ def run(node_name, make_control):
     shuts down."""
     rospy.init_node(node_name)
     control = make_control()
-    robot = rospy.get_param("~robot", "ePuck0")
-    pub = rospy.Publisher(f"/{robot}/cmd_vel", Twist, queue_size=1)
+    robot = rospy.get_param("~robot", VREP.robot_name(0))
+    pub = rospy.Publisher(VREP.topic(robot, "cmd_vel"), Twist, queue_size=1)
     cycle = IrCycle(control, pub)
-    subs = [rospy.Subscriber(f"/{robot}/proximity{k}", Range, cycle.on_range, k, queue_size=8)
-            for k in range(SENSORS)]
+    subs = [rospy.Subscriber(VREP.topic(robot, f"proximity{k}"), Range, cycle.on_range, k,
+                             queue_size=8) for k in range(PROXIMITY_COUNT)]
     rospy.spin()
     del subs
     return 0

@@ -10,8 +10,8 @@ from typing import Dict, Sequence
 
 import numpy as np
 
-from epuck_vrep_compat.devices.kinematics import load_urdf_chain
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, compose
+from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, compose
+from epuck_vrep_compat.geometry.urdf_kinematics import load_urdf_chain
 
 STEP_S = 1e-3
 

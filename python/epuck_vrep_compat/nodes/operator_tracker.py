@@ -30,13 +30,14 @@ from sensor_msgs.msg import Image, LaserScan
 from std_msgs.msg import Float32
 from visualization_msgs.msg import MarkerArray
 
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
+from epuck_vrep_compat.compat.topics import (
+    BLOB_TOPIC_FORMAT, CELL_LASER_TOPIC, KINECT_DEPTH_IMAGE_TOPIC, NODE_NAMESPACE)
 from epuck_vrep_compat.nodes import tracker_geometry as geo
 from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter
 from epuck_vrep_compat.nodes.tracker_kinect import KinectRange
 from epuck_vrep_compat.nodes.tracker_markers import estimate_markers
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import (
-    BLOB_TOPIC_FORMAT, KINECT_DEPTH_IMAGE_TOPIC, WORLD_FRAME)
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 
 
@@ -81,7 +82,7 @@ class OperatorTracker:
         self._subs = [rospy.Subscriber(BLOB_TOPIC_FORMAT.format(camera=k, axis=a), Float32,
                                        self._on_blob, (k, a), queue_size=4)
                       for (k, a) in self.blobs]
-        self._subs += [rospy.Subscriber("/vrep/front_scan", LaserScan, self._on_scan,
+        self._subs += [rospy.Subscriber(NODE_NAMESPACE + CELL_LASER_TOPIC, LaserScan, self._on_scan,
                                         queue_size=1),
                        rospy.Subscriber(KINECT_DEPTH_IMAGE_TOPIC, Image, self._on_depth,
                                         queue_size=1, buff_size=2 ** 22)]

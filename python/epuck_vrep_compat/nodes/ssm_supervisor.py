@@ -30,13 +30,15 @@ from std_msgs.msg import Bool, Float64, String
 from std_srvs.srv import SetBool, SetBoolResponse
 from visualization_msgs.msg import MarkerArray
 
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
+from epuck_vrep_compat.compat.topics import (
+    JOINT_STATES_TOPIC, OPERATOR_SEPARATION_SERVICE, ROBOT_DESCRIPTION_PARAM, SPEED_SCALE_TOPIC)
 from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds
 from epuck_vrep_compat.nodes.ssm_markers import robot_markers
 from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import (
-    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, WORLD_FRAME, ros_robot_name)
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationRequest
 
@@ -70,8 +72,8 @@ class RobotChannel:
         self.joints = None
         self.kinematics = None
         self.status = None
-        self._sub = rospy.Subscriber(f"/{ros_name}/joint_states", JointState, self._on_joints,
-                                     queue_size=1)
+        self._sub = rospy.Subscriber(JOINT_STATES_TOPIC.format(robot=ros_name), JointState,
+                                     self._on_joints, queue_size=1)
         ns = f"~{ros_name}/"
         self.command = rospy.Publisher(SPEED_SCALE_TOPIC.format(robot=ros_name), Float64,
                                        queue_size=1)
@@ -87,7 +89,7 @@ class RobotChannel:
     def link_speeds(self, links, local_points):
         """Speeds of the points, or None while the robot's description is unknown."""
         if self.kinematics is None:
-            description = rospy.get_param(f"/{self.ros_name}/robot_description", None)
+            description = rospy.get_param(ROBOT_DESCRIPTION_PARAM.format(robot=self.ros_name), None)
             if description is None:
                 return None
             self.kinematics = LinkSpeeds(description)

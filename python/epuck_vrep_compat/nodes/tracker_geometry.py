@@ -17,7 +17,7 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from epuck_vrep_compat.scene.transforms import quat_rotate
+from epuck_vrep_compat.geometry.transforms import nearest_rotation, quat_rotate
 
 # The thesis's calibration (its Code 3.1): the ceiling cameras' V-REP object matrices (rows of
 # [R | t]) relative to "Plane", the floor. Camera 0 is the object "camera0", camera 1 "camera".
@@ -39,8 +39,7 @@ class BlobCamera:
 
     def __init__(self, matrix: Sequence[float], view_angle_deg: float = VIEW_ANGLE_DEG):
         m = np.asarray(matrix, dtype=float).reshape(3, 4)
-        u, _, vt = np.linalg.svd(m[:, :3])          # the printed matrix is rounded: re-orthonormalise
-        self.rotation = u @ vt
+        self.rotation = nearest_rotation(m[:, :3])  # the printed matrix is rounded
         self.centre = m[:, 3].copy()
         self.focal = 0.5 / math.tan(math.radians(view_angle_deg) / 2.0)
 

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from epuck_vrep_compat.scene.transforms import quat_conj, quat_rotate
+from epuck_vrep_compat.geometry.transforms import quat_conj, quat_rotate
 
 BODY_CENTRE_M = 0.65
 BODY_RADIUS_M = 0.2

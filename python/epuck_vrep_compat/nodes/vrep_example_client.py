@@ -19,14 +19,15 @@ import rospy
 from vrep_common.msg import JointSetStateData, ProximitySensorData, VrepInfo
 from vrep_common.srv import simRosEnablePublisher, simRosEnableSubscriber, simRosGetObjectHandle
 
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.epuck_names import model_object_name
+from epuck_vrep_compat.compat.topics import INFO_TOPIC, NODE_NAMESPACE
 
 FORWARD_RAD_S = (3.1415, 3.1415)
 BACKWARD_RAD_S = (-3.1415 * 0.5, -3.1415 * 0.25)
 BACKWARD_DURATION_S = 3.0
 LOOP_PERIOD_S = 0.005          # the original's usleep(5000), wall time
 SERVICE_TIMEOUT_S = 30.0
-SET_MODE_VELOCITY = 2
 
 
 class BubbleRob:
@@ -73,16 +74,16 @@ def _object_handles(get_handle, names):
 def wheel_command(left_handle, right_handle, speeds) -> JointSetStateData:
     msg = JointSetStateData()
     msg.handles.data = [left_handle, right_handle]
-    msg.setModes.data = [SET_MODE_VELOCITY, SET_MODE_VELOCITY]
+    msg.setModes.data = [vc.JOINT_SET_TARGET_VELOCITY] * 2
     msg.values.data = list(speeds)
     return msg
 
 
 def read_object_names():
     names = {key: rospy.get_param("~" + key, default)
-             for key, default in (("left_joint", "ePuck_leftJoint"),
-                                  ("right_joint", "ePuck_rightJoint"),
-                                  ("sensor", "ePuck_proxSensor0"))}
+             for key, default in (("left_joint", model_object_name("leftJoint")),
+                                  ("right_joint", model_object_name("rightJoint")),
+                                  ("sensor", model_object_name("proxSensor0")))}
     rospy.loginfo("%s: %s", rospy.get_name(), ", ".join(f"{k}={v}" for k, v in names.items()))
     return names
 
@@ -90,15 +91,15 @@ def read_object_names():
 def enable_streams(robot: BubbleRob, sensor: int, rand_id: str):
     """The proximity sensor stream (subscribed) and the wheels' set_joint_state subscriber
     stream; returns the wheels topic. RuntimeError when the simulator refuses either."""
-    enable_publisher = _service("/vrep/simRosEnablePublisher", simRosEnablePublisher)
+    enable_publisher = _service(NODE_NAMESPACE + "simRosEnablePublisher", simRosEnablePublisher)
     topic = enable_publisher(topicName="proxData" + rand_id, queueSize=1,
                              streamCmd=vc.STRMCMD_READ_PROXIMITY_SENSOR, auxInt1=sensor,
                              auxInt2=0, auxString="").effectiveTopicName
     if not topic:
         raise RuntimeError("the simulator could not enable the proximity sensor stream")
-    robot.subscribers.append(rospy.Subscriber("/vrep/" + topic, ProximitySensorData,
+    robot.subscribers.append(rospy.Subscriber(NODE_NAMESPACE + topic, ProximitySensorData,
                                               robot.on_sensor, queue_size=1))
-    enable_subscriber = _service("/vrep/simRosEnableSubscriber", simRosEnableSubscriber)
+    enable_subscriber = _service(NODE_NAMESPACE + "simRosEnableSubscriber", simRosEnableSubscriber)
     wheels_topic = rospy.get_name() + "/wheels"
     subscriber_id = enable_subscriber(topicName=wheels_topic, queueSize=1,
                                       streamCmd=vc.STRMCMD_SET_JOINT_STATE, auxInt1=0, auxInt2=0,
@@ -125,10 +126,10 @@ def drive(robot: BubbleRob, wheels, left: int, right: int):
 
 
 def run(rand_id: str) -> int:
-    handles = _object_handles(_service("/vrep/simRosGetObjectHandle", simRosGetObjectHandle),
-                              read_object_names())
+    get_handle = _service(NODE_NAMESPACE + "simRosGetObjectHandle", simRosGetObjectHandle)
+    handles = _object_handles(get_handle, read_object_names())
     robot = BubbleRob()
-    robot.subscribers.append(rospy.Subscriber("/vrep/info", VrepInfo, robot.on_info,
+    robot.subscribers.append(rospy.Subscriber(INFO_TOPIC, VrepInfo, robot.on_info,
                                               queue_size=1))
     while not rospy.is_shutdown() and not robot.simulation_running:
         time.sleep(LOOP_PERIOD_S)           # wall time: /clock stands still while stopped

@@ -11,6 +11,7 @@ import os
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
+from epuck_vrep_compat.compat.topics import CELL_LASER_TOPIC
 from epuck_vrep_compat.scene.validation import (
     SceneError, as_list, color, number, numbers, only, positive)
 
@@ -60,7 +61,7 @@ class LaserSpec:
     name: str
     position_m: Tuple[float, float, float]
     yaw_rad: float = 0.0
-    topic: str = "front_scan"
+    topic: str = CELL_LASER_TOPIC
     count: int = 682
     angle_min_rad: float = -2.0862138             # (44 - 384) steps of 2*pi/1024
     angle_increment_rad: float = 2.0 * math.pi / 1024.0

@@ -10,9 +10,11 @@ The IR sensor mounts come from the C++ core's model, so they are defined once.
 import numpy as np
 
 from epuck_vrep_compat._core import EpuckModel
-from epuck_vrep_compat.scene import registry as reg
-from epuck_vrep_compat.scene.transforms import (
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.epuck_names import MODEL_ROOT_OBJECT, model_object_name
+from epuck_vrep_compat.geometry.transforms import (
     IDENTITY_QUAT, quat_from_axis_angle, quat_from_yaw, quat_mul)
+from epuck_vrep_compat.scene import registry as reg
 
 WHEEL_Y_M = 0.0265            # half the 53 mm wheel separation
 WHEEL_Z_M = 0.020             # axle height = wheel radius
@@ -72,15 +74,14 @@ def register_epuck(registry: reg.SceneRegistry, model: EpuckModel, index: int,
     """Register robot ``index``'s objects (suffix ``#index-1``); poses of the root and wheels
     come from the sources. ValueError, with nothing registered, when a name is taken."""
     sfx = vrep_suffix(index)
-    root = registry.add("ePuck" + sfx, reg.SHAPE, reg.WORLD, pose_source=root_pose_source,
-                        robot=robot_name, part="root")
+    root = registry.add(MODEL_ROOT_OBJECT + sfx, vc.OBJECT_SHAPE, vc.WORLD,
+                        pose_source=root_pose_source, robot=robot_name, part="root")
     parts = {"root": root}
 
-    def add(key, stem, object_type, position=(0, 0, 0), quat=IDENTITY_QUAT, parent=None,
-            **kwargs):
+    def add(key, object_type, position=(0, 0, 0), quat=IDENTITY_QUAT, parent=None, **kwargs):
         parent_handle = root.handle if parent is None else parts[parent].handle
-        parts[key] = registry.add(stem + sfx, object_type, parent_handle, position, quat,
-                                  robot=robot_name, part=key, **kwargs)
+        parts[key] = registry.add(model_object_name(key) + sfx, object_type, parent_handle,
+                                  position, quat, robot=robot_name, part=key, **kwargs)
 
     try:
         _add_parts(add, model, wheel_angle_source)
@@ -92,22 +93,22 @@ def register_epuck(registry: reg.SceneRegistry, model: EpuckModel, index: int,
 
 def _add_parts(add, model, wheel_angle_source):
     """Every part but the root, in the V-REP model's order (which fixes the handles)."""
-    add("base", "ePuck_base", reg.DUMMY)
-    add("bodyElements", "ePuck_bodyElements", reg.SHAPE)
+    add("base", vc.OBJECT_DUMMY)
+    add("bodyElements", vc.OBJECT_SHAPE)
     for side, sign in (("left", 1.0), ("right", -1.0)):
-        add(f"{side}Joint", f"ePuck_{side}Joint", reg.JOINT, (0.0, sign * WHEEL_Y_M, WHEEL_Z_M),
-            _JOINT_QUAT, properties={"joint_type": 10, "wheel": side})
-        add(f"{side}Wheel", f"ePuck_{side}Wheel", reg.SHAPE, parent=f"{side}Joint",
+        add(f"{side}Joint", vc.OBJECT_JOINT, (0.0, sign * WHEEL_Y_M, WHEEL_Z_M), _JOINT_QUAT,
+            properties={"joint_type": vc.JOINT_REVOLUTE, "wheel": side})
+        add(f"{side}Wheel", vc.OBJECT_SHAPE, parent=f"{side}Joint",
             pose_source=_wheel_pose_source(wheel_angle_source, 0 if side == "left" else 1))
-    add("ring", "ePuck_ring", reg.SHAPE, (0.0, 0.0, BODY_TOP_Z_M))
+    add("ring", vc.OBJECT_SHAPE, (0.0, 0.0, BODY_TOP_Z_M))
     for i, sensor in enumerate(model.sensors):
         yaw_quat = quat_from_yaw(sensor.yaw_rad)
         position = tuple(sensor.position)
-        add(f"proxSensor{i}", f"ePuck_proxSensor{i}", reg.PROXIMITY_SENSOR, position,
+        add(f"proxSensor{i}", vc.OBJECT_PROXIMITY_SENSOR, position,
             quat_mul(yaw_quat, _Z_TO_X), properties={"sensor_index": i})
-        add(f"dummy_proxSensor{i}", f"dummy_proxSensor{i}", reg.DUMMY, position, yaw_quat)
-    add("camera", "ePuck_camera", reg.VISION_SENSOR, CAMERA_POSITION_M, _VISION_QUAT)
-    add("ledLight", "ePuck_ledLight", reg.LIGHT, (0.0, 0.0, LED_Z_M))
+        add(f"dummy_proxSensor{i}", vc.OBJECT_DUMMY, position, yaw_quat)
+    add("camera", vc.OBJECT_VISION_SENSOR, CAMERA_POSITION_M, _VISION_QUAT)
+    add("ledLight", vc.OBJECT_LIGHT, (0.0, 0.0, LED_Z_M))
 
 
 def _wheel_pose_source(wheel_angle_source, column):

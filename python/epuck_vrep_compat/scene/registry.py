@@ -11,13 +11,8 @@ from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from epuck_vrep_compat.scene.transforms import IDENTITY_QUAT, compose
-
-# V-REP object type codes by the short names the scene uses (the one table: vrep_codes)
-from epuck_vrep_compat.scene.vrep_codes import (  # noqa: F401  (reg.SHAPE, reg.WORLD...)
-    WORLD, OBJECT_CAMERA as CAMERA, OBJECT_DUMMY as DUMMY, OBJECT_FORCE_SENSOR as FORCE_SENSOR,
-    OBJECT_JOINT as JOINT, OBJECT_LIGHT as LIGHT, OBJECT_PROXIMITY_SENSOR as PROXIMITY_SENSOR,
-    OBJECT_SHAPE as SHAPE, OBJECT_VISION_SENSOR as VISION_SENSOR)
+from epuck_vrep_compat.compat.vrep_codes import WORLD
+from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, compose
 
 PoseSource = Callable[[], Tuple[np.ndarray, np.ndarray]]
 

@@ -6,9 +6,9 @@ from typing import List, Tuple
 import numpy as np
 
 from epuck_vrep_compat._core import GROUP_FLOOR, GROUP_STATIC
-from epuck_vrep_compat.scene import registry as reg
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import quat_from_yaw
 from epuck_vrep_compat.scene.scene_file import Obstacle
-from epuck_vrep_compat.scene.transforms import quat_from_yaw
 
 FLOOR_THICKNESS_M = 0.01
 
@@ -36,7 +36,7 @@ def build_arena(scene, registry, world) -> List[Tuple[Obstacle, int]]:
         else:
             quat = quat_from_yaw(o.yaw_rad)
             size = (2.0 * o.radius_m, 2.0 * o.radius_m, o.height_m)
-            obj = registry.add(o.name, reg.SHAPE, reg.WORLD, (x, y, 0.5 * o.height_m), quat,
+            obj = registry.add(o.name, vc.OBJECT_SHAPE, vc.WORLD, (x, y, 0.5 * o.height_m), quat,
                                properties=dict(shape="cylinder", size=size, color=o.color))
             world.add_cylinder(obj.handle, o.radius_m, o.height_m, obj.local_position, quat,
                                o.color, GROUP_STATIC)
@@ -46,7 +46,7 @@ def build_arena(scene, registry, world) -> List[Tuple[Obstacle, int]]:
 
 def _add_box(registry, world, name, size, position, yaw, color, group):
     quat = quat_from_yaw(yaw)
-    obj = registry.add(name, reg.SHAPE, reg.WORLD, position, quat,
+    obj = registry.add(name, vc.OBJECT_SHAPE, vc.WORLD, position, quat,
                        properties=dict(shape="box", size=tuple(size), color=color))
     world.add_box(obj.handle, 0.5 * np.asarray(size, dtype=float),
                   np.asarray(position, dtype=float), quat, color, group)

@@ -11,7 +11,7 @@ from typing import Sequence
 import numpy as np
 
 from epuck_vrep_compat.devices.components import VISION_TO_CAMERA
-from epuck_vrep_compat.scene.transforms import compose, quat_from_yaw, quat_mul
+from epuck_vrep_compat.geometry.transforms import compose, quat_from_yaw, quat_mul
 
 
 def render_robot_cameras(sim, names: Sequence[str], threads: int = 1) -> np.ndarray:

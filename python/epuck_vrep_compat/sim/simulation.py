@@ -22,13 +22,14 @@ from typing import Callable, List, Sequence
 import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
+from epuck_vrep_compat.compat.epuck_names import VREP
 from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.geometry.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import (
     RobotParts, default_model, next_robot_number, register_epuck)
 from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
-from epuck_vrep_compat.scene.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.sim.arena import build_arena
 from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.sim.leds import RobotLeds
@@ -60,7 +61,7 @@ class Simulation:
         self.seed = int(seed)
         self.cmd_timeout_s = float(cmd_timeout_s)
         self.camera = camera if camera is not None else CameraSpec()
-        self.robot_namer = robot_namer if robot_namer is not None else "ePuck{}".format
+        self.robot_namer = robot_namer if robot_namer is not None else VREP.robot_name
         self.model = default_model()
         self.registry = reg.SceneRegistry()
         self.world = CollisionWorld()

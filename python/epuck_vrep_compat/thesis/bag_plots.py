@@ -17,7 +17,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from epuck_vrep_compat.thesis.names import BLOB_TOPIC_FORMAT, CAMERAS, ROBOTS
+from epuck_vrep_compat.compat.thesis_names import CAMERAS, ROBOTS
+from epuck_vrep_compat.compat.topics import BLOB_TOPIC_FORMAT
 from epuck_vrep_compat.thesis.ssm_plots import plot_ssm
 
 BLOB_MATCH_TOLERANCE_S = 0.025      # half of V-REP's default 50 ms step

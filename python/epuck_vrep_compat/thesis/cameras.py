@@ -16,8 +16,8 @@ import rospy
 from sensor_msgs.msg import Image
 from vrep_common.srv import simRosGetObjectHandle, simRosGetVisionSensorImage
 
+from epuck_vrep_compat.compat.thesis_names import CAMERAS
 from epuck_vrep_compat.thesis import params
-from epuck_vrep_compat.thesis.names import CAMERAS
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
 
 RGB8 = 0                    # simRosGetVisionSensorImage options: bit 0 clear = rgb8

@@ -7,16 +7,16 @@ The names are looked up again every ``~refresh_period_s`` (a simulator restarted
 scene); a message is published again only when a handle changed.
 
 Parameters: ``~<robot>_robot`` and ``~<robot>_joints`` for robot in comau, irb, youbot
-(defaults in :mod:`epuck_vrep_compat.thesis.names`), ``~refresh_period_s`` (2.0).
+(defaults in :mod:`epuck_vrep_compat.compat.thesis_names`), ``~refresh_period_s`` (2.0).
 """
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 import rospy
 from vrep_common.srv import simRosGetObjectHandle
 
+from epuck_vrep_compat.compat.thesis_names import HUB_NODE, ROBOTS
 from epuck_vrep_compat.msg import ComauMsg, IrbMsg, YouBotMsg
 from epuck_vrep_compat.thesis import params
-from epuck_vrep_compat.thesis.names import HUB_NODE, ROBOTS
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
 
 HANDLES_MESSAGES = {"Comau": ComauMsg, "Irb": IrbMsg, "YouBot": YouBotMsg}

@@ -14,10 +14,10 @@ from typing import Dict, List, Optional, Sequence
 import rospy
 from vrep_common.srv import simRosGetObjectGroupData
 
+from epuck_vrep_compat.compat.thesis_names import ROBOTS
 from epuck_vrep_compat.msg import JointHandles, vett_JointHandles
 from epuck_vrep_compat.thesis import params
 from epuck_vrep_compat.thesis.hub import HANDLES_MESSAGES, joint_handles_of
-from epuck_vrep_compat.thesis.names import ROBOTS
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
 
 

@@ -10,7 +10,7 @@ simRosGetObjectPose per joint, would be 29 requests per cycle and node in the ce
 V-REP 3.2.1's group data, which returns every object of the group, as the thesis's proxSensors
 and this simulator do. Orientations are V-REP's Euler angles (alpha, beta, gamma),
 R = Rx(alpha) Ry(beta) Rz(gamma), as simGetObjectOrientation reports them
-(:func:`epuck_vrep_compat.scene.transforms.vrep_euler_angles`).
+(:func:`epuck_vrep_compat.geometry.transforms.vrep_euler_angles`).
 
 headerGiunto: stamp = ROS time of the reading (simulation time under /use_sim_time),
 frame_id = "world" (absolute) or the parent's object name (relative), indice/handle/nome from
@@ -25,13 +25,14 @@ import rospy
 from std_msgs.msg import Header
 from vrep_common.srv import simRosGetObjectGroupData
 
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
+from epuck_vrep_compat.compat.thesis_names import ROBOTS
 from epuck_vrep_compat.msg import (
     headerGiunto, posOrAssGiunto, posOrRelGiunto, vett_JointHandles, vett_posOrAssGiunto,
     vett_posOrRelGiunto)
 from epuck_vrep_compat.thesis import params
-from epuck_vrep_compat.thesis.names import ROBOTS, WORLD_FRAME
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
-from epuck_vrep_compat.vrep import constants as vc
 
 POSE_FLOATS = 6                 # data types 9/10: x, y, z, alpha, beta, gamma per object
 Joint = Tuple[int, int, str]    # (indice, handle, nome)

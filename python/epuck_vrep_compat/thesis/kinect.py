@@ -31,10 +31,12 @@ from vrep_common.srv import (
     simRosGetObjectFloatParameter, simRosGetVisionSensorDepthBuffer,
     simRosGetVisionSensorDepthBufferResponse)
 
-from epuck_vrep_compat.thesis import names, params
+from epuck_vrep_compat.compat import thesis_names
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.topics import KINECT_DEPTH_IMAGE_TOPIC
+from epuck_vrep_compat.thesis import params
 from epuck_vrep_compat.thesis.cameras import IMAGE_SERVICES, read_image, stamp_header
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
-from epuck_vrep_compat.vrep import constants as vc
 
 DEFAULT_NEAR_M = 0.5
 DEFAULT_FAR_M = 5.0
@@ -77,8 +79,8 @@ class Kinect:
     """The Kinect node: depth buffer, depth image and colour image from /vrep."""
 
     def __init__(self):
-        self.depth_sensor = params.read_name("depth_sensor", names.KINECT_DEPTH_SENSOR)
-        self.rgb_sensor = params.read_name("rgb_sensor", names.KINECT_RGB_SENSOR)
+        self.depth_sensor = params.read_name("depth_sensor", thesis_names.KINECT_DEPTH_SENSOR)
+        self.rgb_sensor = params.read_name("rgb_sensor", thesis_names.KINECT_RGB_SENSOR)
         self.near_m = params.read_float("near_clipping_m", DEFAULT_NEAR_M)
         self.far_m = params.read_float("far_clipping_m", DEFAULT_FAR_M, minimum=self.near_m)
         self.rate_hz = params.read_rate_hz()
@@ -86,15 +88,15 @@ class Kinect:
             IMAGE_SERVICES, simRosGetVisionSensorDepthBuffer=DepthBufferAsArray,
             simRosGetObjectFloatParameter=simRosGetObjectFloatParameter))
         # images and buffers: only the newest is worth sending
-        self._buffer_pub = rospy.Publisher(names.KINECT_DEPTH_BUFFER_TOPIC, Float32MultiArray,
-                                           queue_size=1)
-        self._depth_pub = rospy.Publisher(names.KINECT_DEPTH_IMAGE_TOPIC, Image, queue_size=1)
-        self._rgb_pub = rospy.Publisher(names.KINECT_RGB_IMAGE_TOPIC, Image, queue_size=1)
+        self._buffer_pub = rospy.Publisher(thesis_names.KINECT_DEPTH_BUFFER_TOPIC,
+                                           Float32MultiArray, queue_size=1)
+        self._depth_pub = rospy.Publisher(KINECT_DEPTH_IMAGE_TOPIC, Image, queue_size=1)
+        self._rgb_pub = rospy.Publisher(thesis_names.KINECT_RGB_IMAGE_TOPIC, Image, queue_size=1)
         self._clipping_checked = False
         rospy.loginfo("%s: depth '%s' -> %s, %s (clipping %.2f .. %.2f m); rgb '%s' -> %s; "
                       "rate %.1f Hz", rospy.get_name(), self.depth_sensor,
-                      names.KINECT_DEPTH_BUFFER_TOPIC, names.KINECT_DEPTH_IMAGE_TOPIC,
-                      self.near_m, self.far_m, self.rgb_sensor, names.KINECT_RGB_IMAGE_TOPIC,
+                      thesis_names.KINECT_DEPTH_BUFFER_TOPIC, KINECT_DEPTH_IMAGE_TOPIC,
+                      self.near_m, self.far_m, self.rgb_sensor, thesis_names.KINECT_RGB_IMAGE_TOPIC,
                       self.rate_hz)
 
     def _check_clipping(self, handle: int):
@@ -146,4 +148,4 @@ class Kinect:
 
 
 def main() -> int:
-    return run_node(names.KINECT_NODE, Kinect)
+    return run_node(thesis_names.KINECT_NODE, Kinect)

@@ -15,11 +15,11 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import rospy
 from vrep_common.srv import simRosGetObjectGroupData
 
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.thesis_names import PROX_NODE, PROX_SENSOR_NAMES, PROX_TOPIC
 from epuck_vrep_compat.msg import proxData, vett_proxData
 from epuck_vrep_compat.thesis import params
-from epuck_vrep_compat.thesis.names import PROX_NODE, PROX_SENSOR_NAMES, PROX_TOPIC
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
-from epuck_vrep_compat.vrep import constants as vc
 
 INTS, FLOATS = 2, 6             # per object in data type 13
 NOT_READ = ((-1, -1), (0.0,) * FLOATS)

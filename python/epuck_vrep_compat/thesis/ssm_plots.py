@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from epuck_vrep_compat.ros.common.names import SSM_TOPIC_FORMAT
+from epuck_vrep_compat.compat.topics import SSM_TOPIC_FORMAT
 
 SERIES = (("separation", "separation"), ("protective_separation", "S_p"), ("scale", "scale"))
 

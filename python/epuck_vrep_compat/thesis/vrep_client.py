@@ -12,10 +12,10 @@ from typing import Callable, Dict, Optional
 
 import rospy
 
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.topics import NODE
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.thesis.names import VREP_NODE
 from epuck_vrep_compat.thesis.params import ParamError
-from epuck_vrep_compat.vrep import constants as vc
 
 FIRST_WAIT_S = 1.0          # the first "waiting for" line comes after this long
 WAIT_LOG_PERIOD_S = 5.0     # then one line per period until the service is up
@@ -33,7 +33,7 @@ class VrepClient:
     def wait(self) -> bool:
         """Block until every service is up, saying so every few seconds; False on shutdown."""
         for name in self._classes:
-            full_name = f"{VREP_NODE}/{name}"
+            full_name = f"{NODE}/{name}"
             timeout_s = FIRST_WAIT_S
             while True:
                 try:
@@ -47,14 +47,14 @@ class VrepClient:
                     rospy.loginfo("%s: waiting for %s (is the simulator running?)",
                                   rospy.get_name(), full_name)
                     timeout_s = WAIT_LOG_PERIOD_S
-        rospy.loginfo("%s: %s is up", rospy.get_name(), VREP_NODE)
+        rospy.loginfo("%s: %s is up", rospy.get_name(), NODE)
         return True
 
     def call(self, name: str, **request):
         """The service's response, or None after a failed call (warned, throttled)."""
         proxy = self._proxies.get(name)
         if proxy is None:
-            proxy = rospy.ServiceProxy(f"{VREP_NODE}/{name}", self._classes[name],
+            proxy = rospy.ServiceProxy(f"{NODE}/{name}", self._classes[name],
                                        persistent=True)
             self._proxies[name] = proxy
         try:
@@ -62,7 +62,7 @@ class VrepClient:
         except (rospy.ServiceException, rospy.exceptions.TransportException, OSError) as e:
             proxy.close()
             del self._proxies[name]       # reconnect on the next call
-            self.log.warn("call:" + name, "%s: %s/%s failed: %s", rospy.get_name(), VREP_NODE,
+            self.log.warn("call:" + name, "%s: %s/%s failed: %s", rospy.get_name(), NODE,
                           name, e)
             return None
 

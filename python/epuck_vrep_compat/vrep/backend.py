@@ -10,8 +10,8 @@ import collections
 import functools
 import math
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.devices import VrepDevices
 from epuck_vrep_compat.vrep.errors import VrepError  # noqa: F401  (the API's error, re-exported)
 from epuck_vrep_compat.vrep.models import VrepModels

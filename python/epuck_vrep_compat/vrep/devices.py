@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.devices.components import ComponentError
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.errors import VrepError
 
 

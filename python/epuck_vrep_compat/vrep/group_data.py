@@ -10,8 +10,8 @@ ROS-free: the ``/vrep`` service and the ``get_object_group_data`` stream both ca
 """
 import numpy as np
 
-from epuck_vrep_compat.scene.transforms import compose, vrep_euler_angles
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import compose, vrep_euler_angles
 from epuck_vrep_compat.vrep.errors import VrepError
 
 NO_DATA = ((), (), ())        # (ints, floats, strings) of one object

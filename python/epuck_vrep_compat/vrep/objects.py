@@ -7,8 +7,8 @@ through :meth:`VrepObjects.get`. Failures raise :class:`VrepError` and change no
 import numpy as np
 
 from epuck_vrep_compat._core import WORLD_LIMIT_M
-from epuck_vrep_compat.scene.transforms import compose, inverse, normalized_quat
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.geometry.transforms import compose, inverse, normalized_quat
 from epuck_vrep_compat.vrep.errors import VrepError
 
 

@@ -7,8 +7,8 @@ failure value.
 """
 import math
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.sim.control import STOPPED
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.errors import VrepError
 
 

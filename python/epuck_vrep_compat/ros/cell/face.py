@@ -12,6 +12,7 @@
 """
 from vrep_common.srv import simRosEnablePublisherRequest
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.ros.cell.joints import ArmTopics
 from epuck_vrep_compat.ros.cell.laser import LaserTopic
 from epuck_vrep_compat.ros.cell.rviz import CellRviz
@@ -20,7 +21,6 @@ from epuck_vrep_compat.ros.cell.transforms import CellTransforms
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.sim.control import STOPPED
-from epuck_vrep_compat.vrep import constants as vc
 
 
 class CellFace(Face):

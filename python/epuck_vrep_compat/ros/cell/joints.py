@@ -12,8 +12,10 @@ import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
+from epuck_vrep_compat.compat.topics import (
+    BASE_CMD_VEL_TOPIC, JOINT_COMMAND_TOPIC, JOINT_STATES_TOPIC)
 from epuck_vrep_compat.devices.articulated import POSITION, VELOCITY
-from epuck_vrep_compat.ros.common.names import ros_robot_name
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 
@@ -24,14 +26,14 @@ class ArmTopics:
         self.arm = arm
         self._lock = lock
         self._log = log
-        ns = "/" + ros_robot_name(arm.spec.name)
+        robot = ros_robot_name(arm.spec.name)
         self._msg = JointState(name=arm.joint_names())
-        self._subscribers = [rospy.Subscriber(ns + "/joint_command", JointState,
+        self._subscribers = [rospy.Subscriber(JOINT_COMMAND_TOPIC.format(robot=robot), JointState,
                                               self._on_joint_command, queue_size=10)]
         if arm.spec.mobile:
-            self._subscribers.append(rospy.Subscriber(ns + "/cmd_vel", Twist, self._on_cmd_vel,
-                                                      queue_size=10))
-        self._states = synchronous_publisher(ns + "/joint_states", JointState)
+            self._subscribers.append(rospy.Subscriber(BASE_CMD_VEL_TOPIC.format(robot=robot),
+                                                      Twist, self._on_cmd_vel, queue_size=10))
+        self._states = synchronous_publisher(JOINT_STATES_TOPIC.format(robot=robot), JointState)
 
     def close(self):
         """The robot was removed: its topics go."""

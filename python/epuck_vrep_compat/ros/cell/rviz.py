@@ -7,8 +7,9 @@ import rospy
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from epuck_vrep_compat.ros.common.names import (
-    NODE_NAMESPACE, ODOM_FRAME, WORLD_FRAME, ros_robot_name)
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
+from epuck_vrep_compat.compat.frames import ODOM_FRAME, WORLD_FRAME
+from epuck_vrep_compat.compat.topics import NODE_NAMESPACE, ROBOT_DESCRIPTION_PARAM
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.ros.transport.static_tf import static_transform
 
@@ -70,4 +71,4 @@ class CellRviz:
 
 
 def _description_param(robot_name):
-    return "/" + ros_robot_name(robot_name) + "/robot_description"
+    return ROBOT_DESCRIPTION_PARAM.format(robot=ros_robot_name(robot_name))

@@ -16,8 +16,8 @@ from geometry_msgs.msg import Point
 from std_msgs.msg import Float64
 
 from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
-from epuck_vrep_compat.ros.common.names import (
-    OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC, ros_robot_name)
+from epuck_vrep_compat.compat.cell_names import ros_robot_name
+from epuck_vrep_compat.compat.topics import OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationResponse
 
 

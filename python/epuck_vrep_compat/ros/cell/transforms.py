@@ -4,7 +4,7 @@ scene put them (the scanner, the cameras, the Kinect's sensors) on the latched `
 sent again only when one of them was moved (a ``/vrep`` pose service) or removed."""
 import numpy as np
 
-from epuck_vrep_compat.ros.common.names import WORLD_FRAME
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
 from epuck_vrep_compat.ros.transport.static_tf import static_transform
 from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
 

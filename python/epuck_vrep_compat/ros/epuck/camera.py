@@ -12,7 +12,7 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
-from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
@@ -91,7 +91,7 @@ class _Camera:
 
     def __init__(self, profile, spec, name, watch, gray=False):
         self.robot = name
-        frame_id = profile.frame(name, names.CAMERA_FRAME)
+        frame_id = profile.frame(name, epuck_names.CAMERA_FRAME)
         self.next_due_s = 0.0
         self._wire = ImageWire(frame_id, spec.width, spec.height, "mono8" if gray else "rgb8")
         self.image = synchronous_publisher(profile.topic(name, "camera"), Image,

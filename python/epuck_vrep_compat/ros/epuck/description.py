@@ -16,7 +16,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 import rospy
 
-from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.ros.epuck.transforms import robot_child_frames
 from epuck_vrep_compat.ros.face import Face, Step
 
@@ -43,7 +43,7 @@ def robot_urdf(profile, sim, index) -> str:
     """The URDF of robot ``index`` with links named as the profile's frames."""
     robot = sim.robot_names[index]
     model = sim.model
-    base = profile.frame(robot, names.BASE_FRAME)
+    base = profile.frame(robot, epuck_names.BASE_FRAME)
     radius, height = model.body_radius_m, model.body_height_m
     parts = [f'<robot name={quoteattr(profile.frame_prefix(robot))}>', _WHITE, _DARK,
              f'<link name={quoteattr(base)}><visual><origin xyz="0 0 {height / 2:.4f}"/>'
@@ -66,7 +66,7 @@ def robot_urdf(profile, sim, index) -> str:
 
 
 def description_param(profile, robot_name: str) -> str:
-    if robot_name == names.ROOT_NAMESPACE:
+    if robot_name == epuck_names.ROOT_NAMESPACE:
         return "/robot_description"
     return f"/{robot_name}/robot_description"
 

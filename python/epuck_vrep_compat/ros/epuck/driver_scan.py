@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from epuck_vrep_compat.ros.epuck.names import ROBOT_RADIUS_M, SCAN_BEAMS
+from epuck_vrep_compat.ros.epuck.profiles import ROBOT_RADIUS_M, SCAN_BEAMS
 
 ANGLE_MIN = -math.pi / 2
 ANGLE_MAX = math.pi / 2

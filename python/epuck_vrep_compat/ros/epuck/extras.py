@@ -14,8 +14,8 @@ import rospy
 from sensor_msgs.msg import BatteryState, Imu, MagneticField, Range
 from visualization_msgs.msg import Marker
 
+from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.ros.epuck import extras_messages as build
-from epuck_vrep_compat.ros.epuck import names
 from epuck_vrep_compat.ros.epuck.extras_wire import TextMarkerCache, sentinel_batch
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
@@ -108,12 +108,13 @@ class ExtrasFace(Face):
         frame = self.profile.frame
         zero = (0.0, 0.0, 1.0)
         templates = {
-            "imu": lambda r: build.imu(None, frame(r, names.BASE_FRAME), zero, zero),
-            "dist_sens": lambda r: build.dist_sens(None, frame(r, names.DIST_SENS_FRAME), 1.0),
-            "mag_field": lambda r: build.mag_field(None, frame(r, names.BASE_FRAME), zero),
+            "imu": lambda r: build.imu(None, frame(r, epuck_names.BASE_FRAME), zero, zero),
+            "dist_sens": lambda r: build.dist_sens(None, frame(r, epuck_names.DIST_SENS_FRAME),
+                                                   1.0),
+            "mag_field": lambda r: build.mag_field(None, frame(r, epuck_names.BASE_FRAME), zero),
             "mag_field_vector": lambda r: build.mag_field_vector(
-                None, frame(r, names.BASE_FRAME), (1.0, 0.0, 0.0)),
-            "battery": lambda r: build.battery(None, frame(r, names.BASE_FRAME), 4.2)}
+                None, frame(r, epuck_names.BASE_FRAME), (1.0, 0.0, 0.0)),
+            "battery": lambda r: build.battery(None, frame(r, epuck_names.BASE_FRAME), 4.2)}
         if not robots:
             return None
         return sentinel_batch([templates[topic](r) for r in robots], _FIELDS[topic])
@@ -141,7 +142,7 @@ class ExtrasFace(Face):
         pack = self._batches[topic].pack
         if topic == "imu":
             accel = swarm.accel * self.gravity_sign
-            return pack(secs, nsecs, accel=accel, gyro=swarm.gyro, quat=_tilt_quat(accel))
+            return pack(secs, nsecs, accel=accel, gyro=swarm.gyro, quat=build.tilt_quat(accel))
         if topic == "dist_sens":
             return pack(secs, nsecs, range=np.clip(s.tof_m, build.DIST_SENS_MIN_M,
                                                    build.DIST_SENS_MAX_M))
@@ -156,7 +157,7 @@ class ExtrasFace(Face):
         return pack(secs, nsecs, voltage=s.battery_v, percentage=percentage)
 
     def _text_frame(self, topic, i, name, secs, nsecs) -> bytes:
-        frame = self.profile.frame(name, names.BASE_FRAME)
+        frame = self.profile.frame(name, epuck_names.BASE_FRAME)
         if topic == "floor":
             values, make = self._floor_values(i), build.floor
         elif topic == "microphone":
@@ -177,12 +178,3 @@ class ExtrasFace(Face):
         """The motors' speeds in steps/s (1000 per revolution), as the e-puck 1 reports them."""
         wheels = self.sim.command.wheel_rad_s[i]
         return [int(w * 1000.0 / (2.0 * np.pi)) for w in wheels]
-
-
-def _tilt_quat(accel):
-    """(N, 4) x, y, z, w of roll = atan2(a_y, a_z), pitch = atan2(-a_x, |a_yz|), yaw 0."""
-    roll = np.arctan2(accel[:, 1], accel[:, 2])
-    pitch = np.arctan2(-accel[:, 0], np.hypot(accel[:, 1], accel[:, 2]))
-    cr, sr = np.cos(roll / 2), np.sin(roll / 2)
-    cp, sp = np.cos(pitch / 2), np.sin(pitch / 2)
-    return np.stack((sr * cp, cr * sp, -sr * sp, cr * cp), axis=1)

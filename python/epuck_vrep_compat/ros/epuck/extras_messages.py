@@ -4,9 +4,12 @@ drivers fill them (``epuck2_driver_cpp.cpp``; ``epuck_driver_cpp.cpp`` for the e
 """
 import math
 
+import numpy as np
 from geometry_msgs.msg import Point, Quaternion
 from sensor_msgs.msg import BatteryState, Imu, MagneticField, Range
 from visualization_msgs.msg import Marker
+
+from epuck_vrep_compat.geometry.transforms import quat_from_rpy
 
 _DRIVER_COVARIANCE = (0.01, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0, 0.0, 0.01)
 DIST_SENS_FOV_RAD = 0.43        # "about 25 degrees (+/- 12.5)"
@@ -23,12 +26,13 @@ def _header(msg, stamp, frame):
         msg.header.stamp = stamp
 
 
-def quat_from_rpy(roll, pitch, yaw) -> Quaternion:
-    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
-    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
-    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-    return Quaternion(sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
-                      cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy)
+def tilt_quat(accel):
+    """x, y, z, w (..., 4) of the tilt an accelerometer reads (aerospace Rxyz): roll =
+    atan2(a_y, a_z), pitch = atan2(-a_x, |a_yz|), yaw 0; one reading or (N, 3)."""
+    a = np.asarray(accel, dtype=float)
+    roll = np.arctan2(a[..., 1], a[..., 2])
+    pitch = np.arctan2(-a[..., 0], np.hypot(a[..., 1], a[..., 2]))
+    return quat_from_rpy(roll, pitch, 0.0)
 
 
 def imu(stamp, frame, accel, gyro) -> Imu:
@@ -40,9 +44,7 @@ def imu(stamp, frame, accel, gyro) -> Imu:
     msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = ax, ay, az
     gx, gy, gz = (float(v) for v in gyro)
     msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = gx, gy, gz
-    roll = math.atan2(ay, az)
-    pitch = math.atan2(-ax, math.sqrt(ay * ay + az * az))
-    msg.orientation = quat_from_rpy(roll, pitch, 0.0)
+    msg.orientation = Quaternion(*(float(v) for v in tilt_quat((ax, ay, az))))
     msg.orientation_covariance = _DRIVER_COVARIANCE
     msg.angular_velocity_covariance = _DRIVER_COVARIANCE
     msg.linear_acceleration_covariance = _DRIVER_COVARIANCE

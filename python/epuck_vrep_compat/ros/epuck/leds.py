@@ -12,9 +12,11 @@ import rospy
 from std_msgs.msg import ColorRGBA, UInt8MultiArray
 from visualization_msgs.msg import Marker, MarkerArray
 
+from epuck_vrep_compat.compat import epuck_names
+from epuck_vrep_compat.compat.frames import ODOM_FRAME
+from epuck_vrep_compat.compat.topics import NODE_NAMESPACE
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
-from epuck_vrep_compat.ros.epuck import commands, epuck2_leds, names
+from epuck_vrep_compat.ros.epuck import commands, epuck2_leds
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.scene.epuck_model import led_positions
@@ -110,7 +112,7 @@ class LedFace(Face):
         model = self.sim.model
         leds = led_positions()
         for name, values in state.items():
-            frame = self.profile.frame(name, names.BASE_FRAME)
+            frame = self.profile.frame(name, epuck_names.BASE_FRAME)
             body = shape_marker(frame, name, 0, Marker.CYLINDER,
                                 (0, 0, 0.5 * model.body_height_m),
                                 (2 * model.body_radius_m, 2 * model.body_radius_m,
@@ -131,7 +133,7 @@ class LedFace(Face):
                 continue
             shape = Marker.CUBE if obj.properties["shape"] == "box" else Marker.CYLINDER
             r, g, b = obj.properties["color"]
-            markers.append(shape_marker(names.ODOM_FRAME, "arena", obj.handle, shape,
+            markers.append(shape_marker(ODOM_FRAME, "arena", obj.handle, shape,
                                         obj.local_position, obj.properties["size"],
                                         ColorRGBA(r, g, b, 1.0), obj.local_quat))
         return markers

@@ -12,12 +12,9 @@ but are worth a warning (a client written for the original may not find them).
 import re
 from typing import List, Sequence
 
-from epuck_vrep_compat.ros.epuck.names import ROOT_NAMESPACE, TopicProfile
+from epuck_vrep_compat.compat.epuck_names import ROOT_NAMESPACE, ProfileNames
 
 _SEGMENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-_CONVENTION = {"vrep": re.compile(r"^ePuck\d+$"),
-               "epuck_driver": re.compile(r"^epuck_robot_\d+$"),
-               "epuck2_driver": re.compile(r"^epuck_robot_\d+$")}
 
 
 def _normalise(entry) -> str:
@@ -33,7 +30,7 @@ def _normalise(entry) -> str:
     return name
 
 
-def parse_robot_names(value, profile: TopicProfile) -> List[str]:
+def parse_robot_names(value, profile: ProfileNames) -> List[str]:
     """The names of a names list: a list of strings, or one string of names separated by
     commas or spaces. ValueError, naming the entry, for an unusable list."""
     if isinstance(value, str):
@@ -55,9 +52,9 @@ def parse_robot_names(value, profile: TopicProfile) -> List[str]:
     return names
 
 
-def unconventional_names(names: Sequence[str], profile: TopicProfile) -> List[str]:
-    """The names the original's launch files would not give (they work all the same)."""
-    pattern = _CONVENTION.get(profile.name)
-    if pattern is None:
-        return []
+def unconventional_names(names: Sequence[str], profile: ProfileNames) -> List[str]:
+    """The names the original's launch files would not give (they work all the same): not of
+    the profile's form (``ePuck3``, ``epuck_robot_3``)."""
+    before, _, after = profile.robot_name_format.partition("{index}")
+    pattern = re.compile(rf"^{re.escape(before)}\d+{re.escape(after)}$")
     return [n for n in names if n != ROOT_NAMESPACE and not pattern.match(n)]

@@ -13,8 +13,10 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, Range
 
+from epuck_vrep_compat.compat import epuck_names
+from epuck_vrep_compat.compat.frames import ODOM_FRAME
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.epuck import commands, driver_scan, names
+from epuck_vrep_compat.ros.epuck import commands, driver_scan
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
@@ -55,13 +57,14 @@ class _Robot:
                                         subscriber_listener=listener)
             listener.publishers.append(pub)      # before any subscriber can count on it
             return pub
-        self.ranges = [publisher(f"proximity{k}", Range) for k in range(names.PROXIMITY_COUNT)]
+        self.ranges = [publisher(f"proximity{k}", Range)
+                       for k in range(epuck_names.PROXIMITY_COUNT)]
         self.imu = publisher(profile.imu_role, Imu) if profile.imu_role else None
         self.ground_truth = (publisher("ground_truth", Odometry) if face.publish_ground_truth
                              else None)
         self.odom = publisher("odom", Odometry) if profile.publishes_odometry else None
         self.scan = publisher("scan", LaserScan) if profile.publishes_scan else None
-        self.scan_frame = profile.frame(name, names.LASER_FRAME)
+        self.scan_frame = profile.frame(name, epuck_names.LASER_FRAME)
         self.cmd_vel = rospy.Subscriber(profile.topic(name, "cmd_vel"), Twist, face.on_cmd_vel,
                                         name, queue_size=10)
         self.outputs = []
@@ -114,19 +117,19 @@ class EpuckFace(Face):
         frame = profile.frame
         rng = profile.range
         self._range_batch = wire.range_batch(
-            [frame(r, names.PROX_FRAME_FORMAT.format(i=k))
-             for r in robots for k in range(names.PROXIMITY_COUNT)],
+            [frame(r, epuck_names.PROX_FRAME_FORMAT.format(i=k))
+             for r in robots for k in range(epuck_names.PROXIMITY_COUNT)],
             Range.INFRARED, rng.field_of_view_rad, rng.min_range_m, rng.max_range_m)
         noise = self.sim.noise
         self._imu_batch = wire.imu_batch(
-            [frame(r, names.BASE_FRAME) for r in robots],
+            [frame(r, epuck_names.BASE_FRAME) for r in robots],
             np.square(noise.accel_stddev_m_s2) if noise.enabled else np.zeros(3),
             (np.square(noise.gyro_stddev_rad_s) if noise.enabled else np.zeros(3))
             if profile.has_gyro else None)
-        self._odom_batch = wire.odometry_batch(names.ODOM_FRAME,
-                                               [frame(r, names.BASE_FRAME) for r in robots])
+        self._odom_batch = wire.odometry_batch(ODOM_FRAME,
+                                               [frame(r, epuck_names.BASE_FRAME) for r in robots])
         self._wheel_odom_batch = wire.odometry_batch(  # the driver's covariance, if any
-            names.ODOM_FRAME, [frame(r, names.BASE_FRAME) for r in robots],
+            ODOM_FRAME, [frame(r, epuck_names.BASE_FRAME) for r in robots],
             profile.odom_pose_variances)
         for i, robot in enumerate(self.robots):
             robot.outputs = self._outputs(i, robot)
@@ -135,7 +138,7 @@ class EpuckFace(Face):
 
     def _outputs(self, i, robot):
         """(publisher, message kind, byte range of its frame in the kind's packed step)."""
-        per_robot = names.PROXIMITY_COUNT
+        per_robot = epuck_names.PROXIMITY_COUNT
         out = [(pub, "range", self._range_batch.bounds(i * per_robot + k))
                for k, pub in enumerate(robot.ranges)]
         if robot.imu is not None:

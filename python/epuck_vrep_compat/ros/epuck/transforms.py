@@ -12,11 +12,13 @@ frames there). The frames fixed to base_link go once on the latched ``/tf_static
 """
 import numpy as np
 
-from epuck_vrep_compat.ros.epuck import names
+from epuck_vrep_compat.compat import epuck_names
+from epuck_vrep_compat.compat.frames import ODOM_FRAME
+from epuck_vrep_compat.geometry.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
+from epuck_vrep_compat.ros.epuck import profiles
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport.static_tf import static_transform
 from epuck_vrep_compat.ros.transport.wire import TransformBatchWire
-from epuck_vrep_compat.scene.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 
 _OPTICAL_FROM_VISION = quat_from_axis_angle((0, 0, 1), np.pi)
 
@@ -25,22 +27,22 @@ def robot_child_frames(profile, sim, index):
     """[(child frame, translation, quaternion or None for wheels)] under base_link."""
     parts = sim.robots[index].parts
     out = []
-    for i in range(names.PROXIMITY_COUNT):
+    for i in range(epuck_names.PROXIMITY_COUNT):
         obj = parts[f"dummy_proxSensor{i}"]
-        out.append((names.PROX_FRAME_FORMAT.format(i=i), obj.local_position, obj.local_quat))
-    for side, frame in zip(("left", "right"), names.WHEEL_FRAMES):
+        out.append((epuck_names.PROX_FRAME_FORMAT.format(i=i), obj.local_position, obj.local_quat))
+    for side, frame in zip(("left", "right"), epuck_names.WHEEL_FRAMES):
         joint = parts[f"{side}Joint"]
         out.append((frame, joint.local_position, None))
     ring = parts["ring"]
-    out.append((names.BODY_TOP_FRAME, ring.local_position, ring.local_quat))
+    out.append((epuck_names.BODY_TOP_FRAME, ring.local_position, ring.local_quat))
     camera = parts["camera"]
-    out.append((names.CAMERA_FRAME, camera.local_position,
+    out.append((epuck_names.CAMERA_FRAME, camera.local_position,
                 quat_mul(camera.local_quat, _OPTICAL_FROM_VISION)))
     if profile.publishes_scan:
-        out.append((names.LASER_FRAME, np.array([0.0, 0.0, 0.034]), np.array([0, 0, 0, 1.0])))
+        out.append((epuck_names.LASER_FRAME, np.array([0.0, 0.0, 0.034]), np.array([0, 0, 0, 1.0])))
     if "dist_sens" in profile.extras:
-        out.append((names.DIST_SENS_FRAME, np.array(names.DIST_SENS_MOUNT_M),
-                    quat_from_axis_angle((0, 1, 0), names.DIST_SENS_PITCH_RAD)))
+        out.append((epuck_names.DIST_SENS_FRAME, np.array(profiles.DIST_SENS_MOUNT_M),
+                    quat_from_axis_angle((0, 1, 0), profiles.DIST_SENS_PITCH_RAD)))
     return out
 
 
@@ -64,9 +66,9 @@ class TfFace(Face):
         base_rows, wheel_rows, static = [], [], []
         stamp = divmod(int(round(sim.time_s * 1e9)), 1_000_000_000)
         for i, robot in enumerate(sim.robot_names):
-            base = profile.frame(robot, names.BASE_FRAME)
+            base = profile.frame(robot, epuck_names.BASE_FRAME)
             base_rows.append(len(frames))
-            frames.append((names.ODOM_FRAME, base))
+            frames.append((ODOM_FRAME, base))
             translations.append(np.zeros(3))
             rotations.append(np.array([0, 0, 0, 1.0]))
             for child, translation, quat in robot_child_frames(profile, sim, i):

@@ -11,7 +11,7 @@ import rospy
 from epuck_vrep_compat.devices.components import CameraSpec
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed as _get
 from epuck_vrep_compat.ros.epuck.commands import SCALINGS
-from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.robot_names import parse_robot_names, unconventional_names
 from epuck_vrep_compat.ros.node.extras_params import read_extras_settings
 from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Settings
@@ -32,7 +32,7 @@ class SimParams:
     rtf: float = 1.0
     step_s: float = 0.05
     paused: bool = False
-    cmd_vel_scaling: str = "vrep"       # the profile's own (names.TopicProfile defaults)
+    cmd_vel_scaling: str = "vrep"       # the profile's own (profiles.TopicProfile defaults)
     cmd_timeout_s: float = 0.0
     accel_sign: str = "ros"
     publish_ground_truth: bool = True

@@ -24,14 +24,15 @@ from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.compat.topics import (
+    CLOCK_TOPIC, NODE, NODE_NAME, PAUSE_SERVICE, RESET_SERVICE, TF_TOPIC, UNPAUSE_SERVICE)
 from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
-from epuck_vrep_compat.ros.common.names import CLOCK_TOPIC, NODE, NODE_NAME, TF_TOPIC
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.description import DescriptionFace
 from epuck_vrep_compat.ros.epuck.extras import ExtrasFace
 from epuck_vrep_compat.ros.epuck.leds import LedFace
-from epuck_vrep_compat.ros.epuck.names import PROFILES
+from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
@@ -103,9 +104,9 @@ class SimulatorNode:
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
-        rospy.Service("~pause", Empty, self._on_pause)
-        rospy.Service("~unpause", Empty, self._on_unpause)
-        rospy.Service("~reset", Empty, self._on_reset)
+        rospy.Service(PAUSE_SERVICE, Empty, self._on_pause)
+        rospy.Service(UNPAUSE_SERVICE, Empty, self._on_unpause)
+        rospy.Service(RESET_SERVICE, Empty, self._on_reset)
         self.leds.publish(self._step_info())
 
     # --- services ------------------------------------------------------------------------

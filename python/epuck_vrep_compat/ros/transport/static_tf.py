@@ -11,7 +11,7 @@ with the next part's.
 from geometry_msgs.msg import TransformStamped
 from tf2_msgs.msg import TFMessage
 
-from epuck_vrep_compat.ros.common.names import TF_STATIC_TOPIC
+from epuck_vrep_compat.compat.topics import TF_STATIC_TOPIC
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 

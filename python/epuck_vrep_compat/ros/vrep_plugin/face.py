@@ -11,6 +11,7 @@ import time
 from std_msgs.msg import Float32, Int32
 from vrep_common.msg import VrepInfo
 
+from epuck_vrep_compat.compat.topics import INFO_TOPIC
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 from epuck_vrep_compat.ros.vrep_plugin.services import VrepServices
@@ -25,7 +26,7 @@ class VrepFace(Face):
 
     def __init__(self, backend, lock):
         self.backend = backend
-        self._info = synchronous_publisher("~info", VrepInfo)
+        self._info = synchronous_publisher(INFO_TOPIC, VrepInfo)
         self.streams = VrepStreams(backend, lock)
         self.services = VrepServices(backend, lock, self.streams)
         self._last_idle_info = 0.0

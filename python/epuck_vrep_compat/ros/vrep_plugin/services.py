@@ -13,8 +13,8 @@ instead of hanging. The handlers live in ``services_objects``, ``services_device
 import rospy
 import vrep_common.srv
 
+from epuck_vrep_compat.compat.topics import NODE, NODE_NAMESPACE
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import NODE, NODE_NAMESPACE
 from epuck_vrep_compat.ros.vrep_plugin import services_devices, services_objects, services_sim
 from epuck_vrep_compat.ros.vrep_plugin.services_objects import Prepared
 from epuck_vrep_compat.vrep.backend import VrepError

@@ -7,16 +7,19 @@ import struct
 import numpy as np
 from vrep_common import srv
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.ros.messages import fill_image
 from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq, sim_stamp
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 
 _RESULT_AND_COUNT = struct.Struct("<iI")
 _COUNT = struct.Struct("<I")
 
 # simRosSetJointState's setModes (and the set_joint_state stream's): which joint call.
-JOINT_SET_MODES = {0: "position", 1: "target_position", 2: "target_velocity", 3: "force"}
+JOINT_SET_MODES = {vc.JOINT_SET_POSITION: "position",
+                   vc.JOINT_SET_TARGET_POSITION: "target_position",
+                   vc.JOINT_SET_TARGET_VELOCITY: "target_velocity",
+                   vc.JOINT_SET_FORCE: "force"}
 
 
 # --- joints ---------------------------------------------------------------------------------
@@ -76,7 +79,7 @@ def read_proximity_sensor(backend, req, errors):
 
 
 def get_vision_sensor_image(backend, req, errors):
-    mono = bool(req.options & 1)
+    mono = bool(req.options & vc.VISION_IMAGE_MONO)
     pixels = backend.vision_image(req.handle, mono)
     res = srv.simRosGetVisionSensorImageResponse(result=1)
     fill_image(res.image, pixels)         # header left default, as the plugin did

@@ -13,7 +13,7 @@ from typing import Callable, NamedTuple
 import rospy
 from vrep_common import srv
 
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
 

@@ -7,17 +7,14 @@ V-REP 3.3.0's ``ROS_server`` (``addPublisher``, ``getPublisherIndexFromCmd``,
   to ``/vrep/`` unless it starts with ``/``; a taken name (or ``info``) gets ``_2`` appended,
   again and again until it is free (``a``, ``a_2``, ``a_2_2``: V-REP's scheme, not ``a_3``);
 * two requests are the same stream when the command and the aux arguments of the command's
-  group are equal (see :func:`epuck_vrep_compat.vrep.constants.aux_kind`);
+  group are equal (``_IDENTITY_BY_GROUP``);
 * a frame id is ``"/" + objectName`` sanitised, unless a get_transform stream's
   ``"child%parent"`` auxString renamed that object's frame (then for every stream).
 """
 from dataclasses import dataclass
 
-from epuck_vrep_compat.ros.common.names import NODE_NAMESPACE
-from epuck_vrep_compat.vrep import constants as vc
+from epuck_vrep_compat.compat.topics import INFO_TOPIC, NODE_NAMESPACE
 
-INFO_TOPIC = "info"
-INFO_RESOLVED = NODE_NAMESPACE + INFO_TOPIC
 COLLISION_SUFFIX = "_2"
 _MARKS = (("#", "_HASHMARK_"), ("-", "_MINUSMARK_"), ("(", "_OPARENTHESISMARK_"),
           (")", "_CPARENTHESISMARK_"))
@@ -39,7 +36,7 @@ def unique_topic_name(requested: str, taken) -> str:
     """The sanitised name, with ``_2`` appended while ``taken(resolved name)`` is true or the
     name is the always-on ``info`` stream."""
     name = sanitize(requested)
-    while resolve_topic(name) == INFO_RESOLVED or taken(resolve_topic(name)):
+    while resolve_topic(name) == INFO_TOPIC or taken(resolve_topic(name)):
         name += COLLISION_SUFFIX
     return name
 
@@ -53,18 +50,17 @@ class Aux:
     string: str = ""
 
 
+# Which aux arguments identify a stream, by the command's 0x1000 group (none for the others)
+_IDENTITY_BY_GROUP = {0x1000: lambda aux: (aux.int1,),
+                      0x2000: lambda aux: (aux.int1, aux.int2),
+                      0x3000: lambda aux: (aux.string,),
+                      0x4000: lambda aux: (aux.int1, aux.string)}
+
+
 def stream_identity(stream_cmd: int, aux: Aux):
     """What makes two enable requests the same publisher: the command and its group's aux."""
-    kind = vc.aux_kind(stream_cmd)
-    if kind == vc.AUX_INT:
-        return stream_cmd, aux.int1
-    if kind == vc.AUX_INT_INT:
-        return stream_cmd, aux.int1, aux.int2
-    if kind == vc.AUX_STRING:
-        return stream_cmd, aux.string
-    if kind == vc.AUX_INT_STRING:
-        return stream_cmd, aux.int1, aux.string
-    return (stream_cmd,)
+    key = _IDENTITY_BY_GROUP.get(stream_cmd & ~0x0FFF)
+    return (stream_cmd,) + (key(aux) if key else ())
 
 
 class FrameNames:
@@ -101,5 +97,5 @@ class FrameNames:
         self._renamed.clear()
 
 
-__all__ = ["Aux", "FrameNames", "INFO_TOPIC", "NODE_NAMESPACE", "resolve_topic", "sanitize",
-           "stream_identity", "unique_topic_name"]
+__all__ = ["Aux", "FrameNames", "resolve_topic", "sanitize", "stream_identity",
+           "unique_topic_name"]

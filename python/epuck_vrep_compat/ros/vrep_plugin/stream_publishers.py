@@ -23,11 +23,11 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, Int32, Int32MultiArray, String, UInt8
 from vrep_common.msg import ObjectGroupData
 
-from epuck_vrep_compat.ros.common.names import WORLD_FRAME
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
 from epuck_vrep_compat.ros.transport.wire import WireMessage
 from epuck_vrep_compat.ros.vrep_plugin.services_devices import fill_joint_state
 from epuck_vrep_compat.ros.vrep_plugin.services_objects import frame_seq
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
 

@@ -19,12 +19,12 @@ from sensor_msgs.msg import CameraInfo, Image, LaserScan, PointCloud2, PointFiel
 from std_msgs.msg import Int32
 from vrep_common.msg import ProximitySensorData, VisionSensorData, VisionSensorDepthBuff
 
-from epuck_vrep_compat.ros.common.names import WORLD_FRAME
+from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.compat.frames import WORLD_FRAME
+from epuck_vrep_compat.geometry.transforms import quat_conj, quat_rotate
 from epuck_vrep_compat.ros.messages import fill_image, pinhole_camera_info
 from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import (
     PublisherKind, set_header, packed_floats, string_signal)
-from epuck_vrep_compat.scene.transforms import quat_conj, quat_rotate
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 
 # The plugin's fixed LaserScan fields (George Moustris' stream)

@@ -21,9 +21,9 @@ from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32, Float64, Int32, Int32MultiArray, String, UInt8
 from vrep_common.msg import JointSetStateData
 
+from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.ros.vrep_plugin.services_devices import JOINT_SET_MODES
 from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import signal_bytes
-from epuck_vrep_compat.vrep import constants as vc
 from epuck_vrep_compat.vrep.backend import VrepError
 
 MAX_JOY_VALUES = 4096          # the plugin put axes + buttons on the stack; we refuse silly sizes

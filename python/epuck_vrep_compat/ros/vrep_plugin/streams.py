@@ -22,16 +22,16 @@ from vrep_common.srv import (
     simRosDisablePublisherResponse, simRosDisableSubscriberResponse,
     simRosEnablePublisherResponse, simRosEnableSubscriberResponse)
 
+from epuck_vrep_compat.compat.topics import TF_TOPIC
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.common.names import TF_TOPIC
 from epuck_vrep_compat.ros.vrep_plugin.stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
 from epuck_vrep_compat.ros.vrep_plugin.stream_publishers import (
     GENERAL_PUBLISHERS, PublisherKind, StreamStep)
 from epuck_vrep_compat.ros.vrep_plugin.stream_sensors import SENSOR_PUBLISHERS
-from epuck_vrep_compat.ros.vrep_plugin.stream_wiring import RospyWiring
 from epuck_vrep_compat.ros.vrep_plugin.stream_subscribers import (
     InvalidMessage, SubscriberKind, subscriber_kinds)
+from epuck_vrep_compat.ros.vrep_plugin.stream_wiring import RospyWiring
 from epuck_vrep_compat.vrep.backend import VrepError
 
 PUBLISHER_KINDS = {**GENERAL_PUBLISHERS, **SENSOR_PUBLISHERS}

@@ -1,20 +1,15 @@
 """Every name the thesis's nodes use, defined once: V-REP object names of the cell (the
 defaults of the nodes' private parameters), node names and topics.
 
-The object names are the V-REP-style names of the cell we build, from the models' own table
-(:mod:`epuck_vrep_compat.scene.robots`). The youBot's 16 joints are in the order of the thesis's
+The object names are the V-REP-style names of the cell we build, from the robots' own table
+(:mod:`.cell_names`). The youBot's 16 joints are in the order of the thesis's
 ``YouBotMsg``: arm, gripper fingers, the four wheel motors, the four passive mecanum roller
 joints, and the gripper's drive pinion (models/README.md says why).
 """
 from dataclasses import dataclass
 from typing import Tuple
 
-from epuck_vrep_compat.scene import robots as models
-# WORLD_FRAME: headerGiunto.header.frame_id of absolute poses
-from epuck_vrep_compat.ros.common.names import (  # noqa: F401
-    BLOB_TOPIC_FORMAT, KINECT_DEPTH_IMAGE_TOPIC, NODE, NODE_NAMESPACE, WORLD_FRAME)
-
-VREP_NODE = NODE
+from epuck_vrep_compat.compat import cell_names
 
 
 @dataclass(frozen=True)
@@ -41,10 +36,11 @@ class Robot:
         return f"N{self.label}_PosOr{'Ass' if absolute else 'Rel'}"
 
 
-# Object names: the cell's models (one table, scene/robots.py).
-COMAU = Robot("Comau", "comau", models.COMAU_SMART_SIX.base_link, models.COMAU_SMART_SIX.joints)
-IRB = Robot("Irb", "irb", models.IRB140.base_link, models.IRB140.joints)
-YOUBOT = Robot("YouBot", "youbot", models.YOUBOT.base_link, models.YOUBOT.joints)
+# Object names: the cell's robots (one table, cell_names.py).
+COMAU = Robot("Comau", "comau", cell_names.COMAU_SMART_SIX.base_link,
+              cell_names.COMAU_SMART_SIX.joints)
+IRB = Robot("Irb", "irb", cell_names.IRB140.base_link, cell_names.IRB140.joints)
+YOUBOT = Robot("YouBot", "youbot", cell_names.YOUBOT.base_link, cell_names.YOUBOT.joints)
 ROBOTS = {robot.label: robot for robot in (COMAU, IRB, YOUBOT)}
 
 HUB_NODE = "robot"
@@ -74,5 +70,3 @@ KINECT_DEPTH_SENSOR = "kinect_depth"
 KINECT_RGB_SENSOR = "kinect_rgb"
 KINECT_DEPTH_BUFFER_TOPIC = "/kinect/depth_buffer"     # std_msgs/Float32MultiArray, V-REP 0..1
 KINECT_RGB_IMAGE_TOPIC = "/kinect/rgb/image"           # sensor_msgs/Image rgb8
-
-

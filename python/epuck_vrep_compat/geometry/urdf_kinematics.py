@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from epuck_vrep_compat.scene.transforms import (
+from epuck_vrep_compat.geometry.transforms import (
     IDENTITY_QUAT, compose, quat_from_axis_angle, quat_from_rpy)
 
 MOVABLE_TYPES = ("revolute", "continuous", "prismatic")

@@ -1,17 +1,27 @@
-"""Names shared by every face and by the client nodes, defined once.
+"""The simulator's ROS names that every face and client node shares, defined once.
 
 The simulator node must be named ``vrep`` so that everything lands under ``/vrep/`` as V-REP's
 clients expect.
 """
-from epuck_vrep_compat.scene.vrep_codes import WORLD_FRAME  # noqa: F401  (V-REP's absolute frame)
-
 NODE_NAME = "vrep"
 NODE = "/" + NODE_NAME                  # the simulator node's resolved name
 NODE_NAMESPACE = NODE + "/"             # its private namespace: services, streams, markers
-ODOM_FRAME = "odom"                     # the fixed frame of the e-pucks (and the cell's odom)
 TF_TOPIC = "/tf"
-TF_STATIC_TOPIC = "/tf_static"            # latched: frames fixed to their parent
+TF_STATIC_TOPIC = "/tf_static"          # latched: frames fixed to their parent
 CLOCK_TOPIC = "/clock"
+INFO_TOPIC = NODE_NAMESPACE + "info"    # vrep_common/VrepInfo, the legacy plugin's
+# the simulator's own control (std_srvs/Empty)
+PAUSE_SERVICE = NODE_NAMESPACE + "pause"
+UNPAUSE_SERVICE = NODE_NAMESPACE + "unpause"
+RESET_SERVICE = NODE_NAMESPACE + "reset"
+
+# Each cell robot's topics and description, ``robot`` its ROS name (cell_names.ros_robot_name).
+JOINT_STATES_TOPIC = "/{robot}/joint_states"            # sensor_msgs/JointState, out
+JOINT_COMMAND_TOPIC = "/{robot}/joint_command"          # sensor_msgs/JointState, in
+BASE_CMD_VEL_TOPIC = "/{robot}/cmd_vel"                 # geometry_msgs/Twist, a mobile base's
+ROBOT_DESCRIPTION_PARAM = "/{robot}/robot_description"  # its URDF, links named as TF frames
+# The cell's laser scanner, under /vrep/ (the scene file's default; a scene may rename it).
+CELL_LASER_TOPIC = "front_scan"
 
 # The cell's safety interface (issue 13): a supervisor's speed override per robot, in; the
 # operator-to-link separation from the simulator's collision world, a service of /vrep.
@@ -25,9 +35,3 @@ KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"
 # What ssm_supervisor publishes per robot (std_msgs/Float64 unless said): separation,
 # protective_separation, scale, operator_uncertainty, protective_stop (Bool), status (String).
 SSM_TOPIC_FORMAT = "/ssm_supervisor/{robot}/{what}"
-
-
-def ros_robot_name(name: str) -> str:
-    """A robot's name in ROS names (topics, parameters): V-REP names a copy ``IRB140#0``, and
-    ``#`` is not allowed in a ROS name, so the copy's topics are ``/IRB140_0/...``."""
-    return name.replace("#", "_")

@@ -1,21 +1,68 @@
-"""V-REP's numeric constants (v_repConst.h of V-REP 3.3.0), defined once: the scene's codes
-(:mod:`epuck_vrep_compat.scene.vrep_codes`) and the API's own.
+"""V-REP's numeric codes (v_repConst.h of V-REP 3.3.0), defined once: the scene's (object types,
+handle constants, joint and proximity sensor codes) and the API's (simulator state bits, the
+simulation parameters our simulator really has, object group data types, stream commands).
 
-Only the values the legacy ROS plugin's clients can observe are here: object types, handle
-constants, stream commands, object group data types, joint codes, simulator state bits, and the
-simulation parameters our simulator really has.
+Only the values the legacy ROS plugin's clients can observe are here. Plain constants: the
+registry, the devices, V-REP's API, the plugin's face and the client nodes import them alike.
 """
-# Object types, handle constants, joint and proximity sensor codes: the scene's table
-from epuck_vrep_compat.scene.vrep_codes import (  # noqa: F401  (re-exported: vc.OBJECT_JOINT...)
-    APPOBJ_COLLECTION, APPOBJ_OBJECT, HANDLE_ALL, HANDLE_ALL_EXCEPT_EXPLICIT,
-    HANDLE_ALL_EXCEPT_SELF, HANDLE_CHAIN, HANDLE_DEFAULT, HANDLE_MAIN_SCRIPT, HANDLE_PARENT,
-    HANDLE_SCENE, HANDLE_SELF, HANDLE_SINGLE, HANDLE_TREE, JOINT_PRISMATIC, JOINT_REVOLUTE,
-    JOINT_SPHERICAL, JOINTMODE_DEPENDENT, JOINTMODE_FORCE, JOINTMODE_HYBRID_FLAG, JOINTMODE_IK,
-    JOINTMODE_IKDEPENDENT, JOINTMODE_MOTION, JOINTMODE_PASSIVE, OBJECT_CAMERA, OBJECT_DUMMY,
-    OBJECT_FORCE_SENSOR, OBJECT_GRAPH, OBJECT_JOINT, OBJECT_LIGHT, OBJECT_MILL, OBJECT_MIRROR,
-    OBJECT_PATH, OBJECT_PROXIMITY_SENSOR, OBJECT_SHAPE, OBJECT_TYPE_END, OBJECT_VISION_SENSOR,
-    OBJECT_VOLUME, PROXSENSOR_CONE, PROXSENSOR_CYLINDER, PROXSENSOR_DISC, PROXSENSOR_PYRAMID,
-    PROXSENSOR_RAY, WORLD, WORLD_FRAME)
+# Object types (sim_object_*_type)
+OBJECT_SHAPE = 0
+OBJECT_JOINT = 1
+OBJECT_GRAPH = 2
+OBJECT_CAMERA = 3
+OBJECT_DUMMY = 4
+OBJECT_PROXIMITY_SENSOR = 5
+OBJECT_PATH = 8
+OBJECT_VISION_SENSOR = 9
+OBJECT_VOLUME = 10
+OBJECT_MILL = 11
+OBJECT_FORCE_SENSOR = 12
+OBJECT_LIGHT = 13
+OBJECT_MIRROR = 14
+OBJECT_TYPE_END = 108
+APPOBJ_OBJECT = 109            # sim_appobj_object_type: "all scene objects"
+APPOBJ_COLLECTION = 115
+
+# Handle constants (sim_handle_*)
+HANDLE_ALL = -2
+HANDLE_ALL_EXCEPT_EXPLICIT = -3
+HANDLE_SELF = -4
+HANDLE_MAIN_SCRIPT = -5
+HANDLE_TREE = -6
+HANDLE_CHAIN = -7
+HANDLE_SINGLE = -8
+HANDLE_DEFAULT = -9
+HANDLE_ALL_EXCEPT_SELF = -10
+HANDLE_PARENT = -11
+HANDLE_SCENE = -12
+WORLD = -1
+
+# Joint subtypes and modes (dataType 16)
+JOINT_REVOLUTE = 10
+JOINT_PRISMATIC = 11
+JOINT_SPHERICAL = 12
+JOINTMODE_PASSIVE = 0
+JOINTMODE_MOTION = 1
+JOINTMODE_IK = 2
+JOINTMODE_IKDEPENDENT = 3
+JOINTMODE_DEPENDENT = 4
+JOINTMODE_FORCE = 5
+JOINTMODE_HYBRID_FLAG = 65536     # dataType 16: added to the mode when option bit 0 is set
+# simRosSetJointState's setModes (and the set_joint_state stream's): what a value sets
+JOINT_SET_POSITION = 0
+JOINT_SET_TARGET_POSITION = 1
+JOINT_SET_TARGET_VELOCITY = 2
+JOINT_SET_FORCE = 3
+
+# simRosGetVisionSensorImage's options: bit 0 set = mono8, clear = rgb8
+VISION_IMAGE_MONO = 1
+
+# Proximity sensor subtypes
+PROXSENSOR_PYRAMID = 30
+PROXSENSOR_CYLINDER = 31
+PROXSENSOR_DISC = 32
+PROXSENSOR_CONE = 33
+PROXSENSOR_RAY = 34
 
 # /vrep/info simulatorState bits
 STATE_NOT_STOPPED = 1
@@ -133,14 +180,3 @@ STRMCMD_RESERVED2 = 14343
 STRMCMD_APPEND_STRING_SIGNAL = 14344
 STRMCMD_SET_JOINT_TRAJECTORY = 14345
 STRMCMD_SEND_DATA_TO_SCRIPT_FUNCTION = 18433
-
-# Aux-data identity of a stream command: which aux arguments make two requests "the same".
-AUX_NONE, AUX_INT, AUX_INT_INT, AUX_STRING, AUX_INT_STRING = range(5)
-
-
-def aux_kind(stream_cmd: int) -> int:
-    """Which aux arguments identify a stream (by the command's 0x1000 group)."""
-    group = stream_cmd & ~0x0FFF
-    return {0x0000: AUX_NONE, 0x1000: AUX_INT, 0x2000: AUX_INT_INT, 0x3000: AUX_STRING,
-            0x4000: AUX_INT_STRING}.get(group, AUX_NONE)
-

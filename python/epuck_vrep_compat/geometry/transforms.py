@@ -29,10 +29,12 @@ def quat_from_axis_angle(axis, angle):
 
 
 def quat_from_rpy(roll, pitch, yaw):
-    """Fixed-axis roll, pitch, yaw (ROS convention: R = Rz(yaw) Ry(pitch) Rx(roll))."""
-    return quat_mul(quat_from_axis_angle((0, 0, 1), yaw),
-                    quat_mul(quat_from_axis_angle((0, 1, 0), pitch),
-                             quat_from_axis_angle((1, 0, 0), roll)))
+    """Fixed-axis roll, pitch, yaw (ROS convention: R = Rz(yaw) Ry(pitch) Rx(roll)) [rad];
+    works on scalars and arrays."""
+    half = 0.5 * np.array(np.broadcast_arrays(roll, pitch, yaw), dtype=float)
+    (cr, cp, cy), (sr, sp, sy) = np.cos(half), np.sin(half)
+    return np.stack((sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                     cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy), axis=-1)
 
 
 def _mul4(a, b):
@@ -125,3 +127,38 @@ def vrep_euler_angles(quat):
         r11 = 1.0 - 2.0 * (x * x + z * z)
         return [math.atan2(r21, r11), beta, 0.0]
     return [math.atan2(-r12, r22), beta, math.atan2(-r01, r00)]
+
+
+def nearest_rotation(m):
+    """The rotation matrix nearest a 3x3 matrix (a printed, rounded one re-orthonormalised)."""
+    u, _, vt = np.linalg.svd(np.asarray(m, dtype=float))
+    r = u @ vt
+    if np.linalg.det(r) < 0:
+        u[:, -1] *= -1.0
+        r = u @ vt
+    return r
+
+
+def quat_from_matrix(m):
+    """Unit quaternion (x, y, z, w) of a 3x3 rotation matrix (re-orthonormalised first)."""
+    r = nearest_rotation(m)
+    t = np.trace(r)
+    if t > 0:
+        s = 2.0 * math.sqrt(t + 1.0)
+        q = ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, 0.25 * s)
+    else:
+        i = int(np.argmax(np.diag(r)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * math.sqrt(1.0 + r[i, i] - r[j, j] - r[k, k])
+        q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
+        q[i] = 0.25 * s
+        q[j] = (r[j, i] + r[i, j]) / s
+        q[k] = (r[k, i] + r[i, k]) / s
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+def pose_from_vrep_matrix(values):
+    """V-REP's 12-value object matrix (rows of [R | t]) to (position, quaternion)."""
+    m = np.asarray(values, dtype=float).reshape(3, 4)
+    return m[:, 3].copy(), quat_from_matrix(m[:, :3])
