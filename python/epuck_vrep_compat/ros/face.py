@@ -12,8 +12,10 @@ holds its faces in one list, in publication order, and calls, under the simulati
 * :meth:`Face.publish_idle` on the loop's idle passes (paused, stopped, waiting for a
   synchronous trigger); most faces publish nothing then.
 
-Order matters where one face's output is another's input within a step: the list runs the
-cell (which enables the blob streams) before ``/vrep`` (which publishes the streams).
+No face's output is another's input: each reads the model alone (what must be published
+from the start, such as the cell's blob signals, the model declares), so the list's order
+does not change what a topic gets in a step (``/tf``, which several faces share, gets their
+messages in the list's order: independent transforms, in any order).
 """
 import rospy
 

@@ -260,6 +260,10 @@ class Simulation:
         vx, vy, wz = self.swarm.velocities[self._index_by_name[obj.robot]]
         return np.array([vx, vy, 0.0]), np.array([0.0, 0.0, wz])
 
+    def published_signals(self):
+        """Every extension's :meth:`SimulationExtension.published_signals`, in their order."""
+        return [signal for e in self.extensions for signal in e.published_signals()]
+
     # --- stepping ------------------------------------------------------------------------------
     @property
     def time_s(self) -> float:

@@ -97,8 +97,7 @@ class SimulatorNode:
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
-            self.cell = CellFace(self.sim, self.vrep.streams, self._lock, self._tf_static)
-        # publication order: the cell enables the blob streams before /vrep publishes streams
+            self.cell = CellFace(self.sim, self._lock, self._tf_static)
         self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]
