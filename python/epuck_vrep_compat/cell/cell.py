@@ -13,6 +13,7 @@ import pybullet as pb
 
 from epuck_vrep_compat._core import GROUP_ALL
 from epuck_vrep_compat.cell.blob_signals import blob_signal_names, write_blob_signals
+from epuck_vrep_compat.cell.commands import CellCommands
 from epuck_vrep_compat.cell.loaded_models import load_cell_robot
 from epuck_vrep_compat.devices.arm_script import scripted_motion
 from epuck_vrep_compat.devices.articulated import ArticulatedRobot
@@ -55,6 +56,7 @@ class Cell(SimulationExtension):
         self._build_kinect()
         self.scan_count = 0                 # laser scans taken so far (a reader compares)
         self.blobs: Dict[str, np.ndarray] = {}
+        self.commands = CellCommands(self)      # the faces' one way in
         self._sync_world()
         self._sense()
 

@@ -4,11 +4,11 @@ ROS-free. The ROS faces read its state after each step and write commands into i
 one way per step (commands -> core step -> sensor arrays -> adapters).
 
 Robots and scene objects can be added and removed between steps, by a caller that holds the
-simulation lock (the core is not thread-safe); afterwards every listener is called, so the
-faces follow. Robot rows (``robot_names``, ``robots``, ``start_poses``, the command arrays and
-the core's outputs) stay in step: a removal shifts the later rows up by one. Handles never
-change: a removed object's handle is never given again. Commands arrive on other threads by
-robot name, and find the robot's row under a lock of their own.
+simulation lock (:attr:`Simulation.lock`: the core is not thread-safe); afterwards every
+listener is called, so the faces follow. Robot rows (``robot_names``, ``robots``,
+``start_poses``, the command arrays and the core's outputs) stay in step: a removal shifts the
+later rows up by one. Handles never change: a removed object's handle is never given again.
+Wheel commands arrive on other threads by robot name, under a lock of their own (no step wait).
 
 What the e-pucks' arena does not hold (the industrial cell) comes in as an extension
 (:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`): the simulation calls its hooks
@@ -70,6 +70,7 @@ class Simulation:
         self.robot_names: List[str] = []
         self.start_poses = []
         self._index_by_name = {}
+        self.lock = threading.RLock()       # steps, scene changes, the cell's commands; reentrant
         self._commands_lock = threading.Lock()
         self.command = RobotCommand(np.zeros((0, 2)), np.zeros(0))
         self.leds = RobotLeds()          # set by cmd_led, read by the LED face

@@ -22,16 +22,17 @@ class CellFace(Face):
     """The industrial cell: joint states and commands, the laser scan, the cell's TF, robot
     descriptions and markers for rviz.
 
-    ``lock``: the simulation lock commands take; ``static_tf``: the node's ``/tf_static``."""
+    Commands go to the model through the cell's command interface (``cell.commands``);
+    ``static_tf``: the node's ``/tf_static``."""
 
-    def __init__(self, sim, lock, static_tf):
+    def __init__(self, sim, static_tf):
         self.sim = sim
         self.cell = sim.cell
         self._laser = LaserTopic(self.cell) if self.cell.laser is not None else None
-        self._lock, self._log = lock, ThrottledLog()
-        log = self._log
-        self._safety = CellSafety(sim, lock, log)
-        self._arms = {arm.spec.name: ArmTopics(arm, lock, log) for arm in self.cell.arms}
+        self._log = log = ThrottledLog()
+        self._safety = CellSafety(sim, log)
+        self._arms = {arm.spec.name: ArmTopics(arm, self.cell.commands, log)
+                      for arm in self.cell.arms}
         self._transforms = CellTransforms(sim, static_tf)
         self._rviz = CellRviz(sim, static_tf)
 
@@ -43,7 +44,7 @@ class CellFace(Face):
             self._arms.pop(name).close()
             self._rviz.forget_robot(name)
         for arm in [a for a in self.cell.arms if a.spec.name not in self._arms]:
-            self._arms[arm.spec.name] = ArmTopics(arm, self._lock, self._log)
+            self._arms[arm.spec.name] = ArmTopics(arm, self.cell.commands, self._log)
             self._rviz.describe(arm)
         self._safety.sync()
         if self._laser is not None and self.cell.laser is None:

@@ -34,11 +34,12 @@ SIGNAL_STREAM_COMMANDS = {"int": vc.STRMCMD_GET_INTEGER_SIGNAL,
 class VrepFace(Face):
     """V-REP's legacy plugin: ``/vrep/info``, the ``simRos*`` services and the enabled streams."""
 
-    def __init__(self, backend, lock):
+    def __init__(self, backend):
+        """Services and subscriber streams act on the model under its lock (``sim.lock``)."""
         self.backend = backend
         self._info = synchronous_publisher("~info", VrepInfo)
-        self.streams = VrepStreams(backend, lock)
-        self.services = VrepServices(backend, lock, self.streams)
+        self.streams = VrepStreams(backend, backend.sim.lock)
+        self.services = VrepServices(backend, backend.sim.lock, self.streams)
         self._last_idle_info = 0.0
         self._scripts_started = False     # the scripts' signal streams enabled since the start
         backend.control.listeners.append(self._on_state)
