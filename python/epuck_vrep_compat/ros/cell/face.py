@@ -58,7 +58,7 @@ class CellFace(Face):
         batch, stamp = step.batch, step.stamp
         self._transforms.update_static(step.secs, step.nsecs)
         if batch.wanted(step.tf):
-            batch.add(step.tf, self._transforms.message(step.secs, step.nsecs))
+            step.add_tf("cell", self._transforms.message(step.secs, step.nsecs))
         if self._laser is not None:
             self._laser.publish(batch, stamp)
         for arm in self._arms.values():

@@ -6,8 +6,9 @@ Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while
 ``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
 
 Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
-one list, in publication order, and after each step calls ``publish(step)`` on each (on idle
-passes ``publish_idle(step)``). Robots loaded, pasted or removed through ``/vrep`` change the
+one list and after each step calls ``publish(step)`` on each (on idle passes
+``publish_idle(step)``). What a topic gets does not depend on the list's order: the node sends
+``/clock`` first and the step's ``/tf`` parts last, in their own order (``Step.send_tf``). Robots loaded, pasted or removed through ``/vrep`` change the
 simulation under its lock (``sim.lock``, which every step holds), between steps; the simulation then calls
 :meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
 step.
@@ -178,6 +179,7 @@ class SimulatorNode:
             self._batch.add(self._clock, Clock(clock=step.stamp))
         for face in self.faces:
             face.publish(step)
+        step.send_tf()
         return True
 
     def _step_failed(self, trace: str):
@@ -213,6 +215,7 @@ class SimulatorNode:
                     step = self._step_info()
                     for face in self.faces:
                         face.publish_idle(step)
+                    step.send_tf()
                     batch.flush()
                 time.sleep(_IDLE_SLEEP_S)
                 deadline = time.monotonic()

@@ -74,7 +74,11 @@ class VrepFace(Face):
             self._start_scripts()
         if step.batch.wanted(self._info):
             step.batch.add(self._info, self.info_message(step.stamp))
-        self.streams.publish(step.batch, step.secs, step.nsecs)
+        self._publish_streams(step)
+
+    def _publish_streams(self, step: Step):
+        self.streams.publish(step.batch, step.secs, step.nsecs,
+                             send_transforms=lambda msg: step.add_tf("streams", msg))
 
     def publish_idle(self, step: Step):
         """While not stepping (paused, stopped, waiting for a trigger): info and the enabled
@@ -83,4 +87,4 @@ class VrepFace(Face):
         if now - self._last_idle_info >= IDLE_INFO_PERIOD_S:
             self._last_idle_info = now
             step.batch.add(self._info, self.info_message(step.stamp))
-            self.streams.publish(step.batch, step.secs, step.nsecs)
+            self._publish_streams(step)
