@@ -12,6 +12,8 @@ import numpy as np
 import pybullet as pb
 
 from epuck_vrep_compat._core import GROUP_ALL
+from epuck_vrep_compat.cell.blob_signals import blob_signal_names, write_blob_signals
+from epuck_vrep_compat.cell.commands import CellCommands
 from epuck_vrep_compat.cell.loaded_models import load_cell_robot
 from epuck_vrep_compat.devices.arm_script import scripted_motion
 from epuck_vrep_compat.devices.articulated import ArticulatedRobot
@@ -54,6 +56,7 @@ class Cell(SimulationExtension):
         self._build_kinect()
         self.scan_count = 0                 # laser scans taken so far (a reader compares)
         self.blobs: Dict[str, np.ndarray] = {}
+        self.commands = CellCommands(self)      # the faces' one way in
         self._sync_world()
         self._sense()
 
@@ -110,7 +113,7 @@ class Cell(SimulationExtension):
             self.operator.advance(dt)
         self._sync_world()
         self._sense()
-        self._write_blob_signals()
+        write_blob_signals(self.sim.signals["float"], self.camera_specs, self.blobs)
 
     def link_poses(self):
         """Every link frame in the world, stacked over the robots (as of the last step)."""
@@ -149,21 +152,9 @@ class Cell(SimulationExtension):
             if c.blob_topics:
                 self.blobs[c.name] = camera.blob_packet()
 
-    def _write_blob_signals(self):
-        """The thesis's child script, each step: a blob camera's first blob x and y become the
-        float signals of its ``blob_topics``, which are cleared while it sees no blob."""
-        floats = self.sim.signals["float"]
-        for c in self.camera_specs:
-            if not c.blob_topics:
-                continue
-            packet = self.blobs.get(c.name)
-            x_topic, y_topic = c.blob_topics
-            if packet is not None and len(packet) > 6 and packet[0] >= 1:
-                floats[x_topic] = float(packet[4])
-                floats[y_topic] = float(packet[5])
-            else:
-                floats.pop(x_topic, None)
-                floats.pop(y_topic, None)
+    def published_signals(self):
+        """The blob cameras' float signals (:mod:`blob_signals`)."""
+        return [("float", name) for name in blob_signal_names(self.camera_specs)]
 
     # --- objects ------------------------------------------------------------------------------
     def owns(self, obj) -> bool:
@@ -218,10 +209,10 @@ class Cell(SimulationExtension):
         if self.laser is not None and self.laser_handle in removed:
             self.laser, self.laser_ranges = None, None
         kept = [(v, c) for v, c in zip(self.cameras, self.camera_specs) if v.handle not in removed]
-        blob_topics = {t for c in self.camera_specs for t in c.blob_topics}
+        blob_topics = set(blob_signal_names(self.camera_specs))
         self.cameras = [v for v, _ in kept]
         self.camera_specs = [c for _, c in kept]
-        for topic in blob_topics - {t for c in self.camera_specs for t in c.blob_topics}:
+        for topic in blob_topics - set(blob_signal_names(self.camera_specs)):
             self.sim.signals["float"].pop(topic, None)      # a removed camera's signals go
         self.blobs = {c.name: self.blobs[c.name] for c in self.camera_specs
                       if c.name in self.blobs}

@@ -39,6 +39,12 @@ class SimulationExtension:
     def reset(self) -> None:
         """After the simulation's reset (robots at their start poses, noise restarted)."""
 
+    def published_signals(self):
+        """(kind, name) of the signals the extension's scripts publish from every start on, as
+        V-REP's child scripts enabled a signal's publisher stream in their first pass; ``kind``
+        is a key of ``Simulation.signals``. The ``/vrep`` face enables those streams itself."""
+        return ()
+
     def load_model(self, model):
         """simLoadModel of a model file (``scene.model_files.ModelFile``) that is not an
         e-puck: the new robot's base object, or None when the model is not this extension's;

@@ -1,18 +1,17 @@
 """The simulation: one scene registry, one collision world, one batched e-puck swarm.
 
-ROS-free. The ROS faces read its state after each step and write commands into it; data flows
-one way per step (commands -> core step -> sensor arrays -> adapters).
+ROS-free. The ROS faces read its state after each step and write commands into it (commands ->
+core step -> sensor arrays -> adapters, one way per step).
 
 Robots and scene objects can be added and removed between steps, by a caller that holds the
-simulation lock (the core is not thread-safe); afterwards every listener is called, so the
-faces follow. Robot rows (``robot_names``, ``robots``, ``start_poses``, the command arrays and
-the core's outputs) stay in step: a removal shifts the later rows up by one. Handles never
-change: a removed object's handle is never given again. Commands arrive on other threads by
-robot name, and find the robot's row under a lock of their own.
+simulation lock (:attr:`Simulation.lock`: the core is not thread-safe); afterwards every
+listener is called, so the faces follow. Robot rows (``robot_names``, ``robots``,
+``start_poses``, the command arrays and the core's outputs) stay in step: a removal shifts the
+later rows up by one. Handles never change: a removed object's handle is never given again.
+Wheel commands arrive on other threads by robot name, under a lock of their own (no step wait).
 
 What the e-pucks' arena does not hold (the industrial cell) comes in as an extension
-(:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`): the simulation calls its hooks
-and never names it.
+(:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`): called, never named.
 """
 import math
 import threading
@@ -71,6 +70,7 @@ class Simulation:
         self.robot_names: List[str] = []
         self.start_poses = []
         self._index_by_name = {}
+        self.lock = threading.RLock()       # steps, scene changes, the cell's commands; reentrant
         self._commands_lock = threading.Lock()
         self.command = RobotCommand(np.zeros((0, 2)), np.zeros(0))
         self.leds = RobotLeds()          # set by cmd_led, read by the LED face
@@ -260,6 +260,10 @@ class Simulation:
             return np.zeros(3), np.zeros(3)
         vx, vy, wz = self.swarm.velocities[self._index_by_name[obj.robot]]
         return np.array([vx, vy, 0.0]), np.array([0.0, 0.0, wz])
+
+    def published_signals(self):
+        """Every extension's :meth:`SimulationExtension.published_signals`, in their order."""
+        return [signal for e in self.extensions for signal in e.published_signals()]
 
     # --- stepping ------------------------------------------------------------------------------
     @property

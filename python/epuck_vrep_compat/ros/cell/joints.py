@@ -4,14 +4,14 @@
 ``joint_command`` (``sensor_msgs/JointState``): positions are target positions, or, with no
 positions, velocities are target velocities; names select joints, none = all in order. A command
 stops the robot's default script until the simulation is stopped or reset. Commands arrive on
-rospy's threads and act on the arm under the simulation lock.
+rospy's threads and go to the model through the cell's command interface
+(:class:`~epuck_vrep_compat.cell.commands.CellCommands`), which takes the simulation lock.
 """
-import math
-
 import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 
+from epuck_vrep_compat.cell.commands import CLAMPED, UNKNOWN
 from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.topics import (
     BASE_CMD_VEL_TOPIC, JOINT_COMMAND_TOPIC, JOINT_STATES_TOPIC)
@@ -22,9 +22,10 @@ from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 class ArmTopics:
     """One cell robot's joint topics (see the module's docstring)."""
 
-    def __init__(self, arm, lock, log):
+    def __init__(self, arm, commands, log):
+        """``commands``: the cell's :class:`~epuck_vrep_compat.cell.commands.CellCommands`."""
         self.arm = arm
-        self._lock = lock
+        self._commands = commands
         self._log = log
         robot = ros_robot_name(arm.spec.name)
         self._msg = JointState(name=arm.joint_names())
@@ -60,36 +61,26 @@ class ArmTopics:
                            "/%s/joint_command: %d names but %d values; ignored",
                            arm.spec.name, len(names), len(values))
             return
-        with self._lock:
-            for name, value in zip(names, values):
-                self._command_joint(name, value, mode)
-
-    def _command_joint(self, name, value, mode):
-        arm = self.arm
-        k = arm.movable_index(name)
-        if k is None or not math.isfinite(value):
-            self._log.warn(f"{arm.spec.name}:{name}:{k is None}",
-                           "/%s/joint_command: %s joint '%s' value %s; ignored",
-                           arm.spec.name, "unknown" if k is None else "bad", name, value)
-            return
-        joint = arm.joints[k]
-        if mode == POSITION:
-            joint.set_target_position(value)
-        elif joint.set_target_velocity(value) != value:
-            self._log.warn(f"{arm.spec.name}:{name}:speed",
-                           "/%s/joint_command: joint '%s' velocity %s clamped to its "
-                           "limit %s", arm.spec.name, name, value, joint.max_velocity)
+        for refused in self._commands.joints(arm.spec.name, names, values, mode):
+            name, value, problem, limit = refused
+            if problem == CLAMPED:
+                self._log.warn(f"{arm.spec.name}:{name}:speed",
+                               "/%s/joint_command: joint '%s' velocity %s clamped to its "
+                               "limit %s", arm.spec.name, name, value, limit)
+            else:
+                self._log.warn(f"{arm.spec.name}:{name}:{problem == UNKNOWN}",
+                               "/%s/joint_command: %s joint '%s' value %s; ignored",
+                               arm.spec.name, "unknown" if problem == UNKNOWN else "bad", name,
+                               value)
 
     def _on_cmd_vel(self, msg):
         arm = self.arm
         v = (msg.linear.x, msg.linear.y, msg.angular.z)
-        if not all(math.isfinite(x) for x in v):
+        applied = self._commands.twist(arm.spec.name, *v)
+        if applied is None:
             self._log.warn(f"{arm.spec.name}:cmd_vel", "/%s/cmd_vel: non-finite twist ignored",
                            arm.spec.name)
-            return
-        with self._lock:
-            applied = arm.set_twist(*v)
-        if applied != v:
+        elif applied != v:
             self._log.warn(f"{arm.spec.name}:cmd_vel:speed", "/%s/cmd_vel: twist %s scaled to "
                            "%s (the base's top speed)", arm.spec.name,
                            tuple(round(x, 3) for x in v), tuple(round(x, 3) for x in applied))

@@ -28,9 +28,8 @@ def _point(p):
 class CellSafety:
     """The speed-scale subscribers of the cell's robots and the separation service."""
 
-    def __init__(self, sim, lock, log):
+    def __init__(self, sim, log):
         self.sim = sim
-        self._lock = lock
         self._log = log
         self._scales = {}
         self.sync()
@@ -56,17 +55,13 @@ class CellSafety:
         if not math.isfinite(value):
             self._log.warn(f"{name}:speed_scale", "/%s/speed_scale: %s is not finite; the "
                            "robot stops (fail safe)", name, value)
-            value = 0.0
         elif not 0.0 <= value <= 1.0:
             self._log.warn(f"{name}:speed_scale:range", "/%s/speed_scale: %s clamped to "
                            "[0, 1]", name, value)
-        with self._lock:
-            arm = self.sim.cell.arm_by_name.get(name)
-            if arm is not None:
-                arm.set_speed_scale(value)
+        self.sim.cell.commands.speed_scale(name, value)
 
     def _on_separation(self, req):
-        with self._lock:
+        with self.sim.lock:                     # a query of the collision world the step moves
             try:
                 links = operator_separation(self.sim.cell, req.ground_truth, req.x, req.y)
             except (NoOperator, ValueError) as error:

@@ -52,31 +52,28 @@ class LedFace(Face):
             leds.close()
 
     def _on_cmd_led(self, msg, name):
-        """A robot's ``cmd_led`` (rospy thread): the new states into the model. One command at
-        a time: a toggle reads the states it changes."""
-        with self._lock:
-            current = self.sim.leds.get(name)
-            if current is None:
-                return                                  # the robot was removed
-            result = commands.apply_led_command(self.profile.name, current[0],
-                                                bytearray(msg.data))
-            if isinstance(result, str):
-                self._log.warn(f"{name}:cmd_led", "%s: %s; ignored", name, result)
-                return
-            self.sim.leds.set(name, result)
+        """A robot's ``cmd_led`` (rospy thread): the new states into the model, whole (a toggle
+        reads the states it changes)."""
+        data = bytearray(msg.data)
+        result = self.sim.leds.update(
+            name, lambda current: commands.apply_led_command(self.profile.name, current, data))
+        if isinstance(result, str):
+            self._log.warn(f"{name}:cmd_led", "%s: %s; ignored", name, result)
 
     def _on_rgb_leds(self, msg, name):
-        """The e-puck2's ``rgb_leds`` (rospy thread): states and colours of its RGB LEDs."""
-        with self._lock:
-            current = self.sim.leds.get(name)
-            if current is None:
-                return
-            result = epuck2_leds.apply_rgb_command(current[0], bytearray(msg.data))
+        """The e-puck2's ``rgb_leds`` (rospy thread): states and colours of its RGB LEDs (the
+        colours, for the markers, before the states that make them re-sent)."""
+        data = bytearray(msg.data)
+
+        def change(current):
+            result = epuck2_leds.apply_rgb_command(current, data)
             if isinstance(result, str):
-                self._log.warn(f"{name}:rgb_leds", "%s: %s; ignored", name, result)
-                return
+                return result
             self._colours.setdefault(name, {}).update(result[1])
-            self.sim.leds.set(name, result[0])
+            return result[0]
+        result = self.sim.leds.update(name, change)
+        if isinstance(result, str):
+            self._log.warn(f"{name}:rgb_leds", "%s: %s; ignored", name, result)
 
     def publish(self, step: Step):
         """After a step: re-send the LED states set since, and the markers with them."""

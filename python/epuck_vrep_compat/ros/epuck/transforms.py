@@ -91,8 +91,7 @@ class TfFace(Face):
     def publish(self, step: Step):
         """This step's transforms on ``/tf``, when someone listens."""
         if step.batch.wanted(step.tf) and self.frames:
-            step.batch.add_frame(step.tf, self._wire.frame(step.secs, step.nsecs,
-                                                           *self._moving()))
+            step.add_tf("epucks", self._wire.frame(step.secs, step.nsecs, *self._moving()))
 
     def message(self, secs: int, nsecs: int):
         """This step's moving transforms of every robot; None while there is no robot."""

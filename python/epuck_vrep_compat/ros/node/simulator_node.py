@@ -6,14 +6,14 @@ Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while
 ``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
 
 Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
-one list, in publication order, and after each step calls ``publish(step)`` on each (on idle
-passes ``publish_idle(step)``). Robots loaded, pasted or removed through ``/vrep`` change the
-simulation under the node's lock, between steps; the simulation then calls
+one list and after each step calls ``publish(step)`` on each (on idle passes
+``publish_idle(step)``). What a topic gets does not depend on the list's order: the node sends
+``/clock`` first and the step's ``/tf`` parts last, in their own order (``Step.send_tf``). Robots loaded, pasted or removed through ``/vrep`` change the
+simulation under its lock (``sim.lock``, which every step holds), between steps; the simulation then calls
 :meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
 step.
 """
 import sys
-import threading
 import time
 import traceback
 
@@ -71,8 +71,7 @@ class SimulatorNode:
                                         params.cmd_timeout_s, params.camera, profile.robot_name)
         except SceneError as e:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
-        # Reentrant: a service holding it may stop the simulation, whose listeners reset it.
-        self._lock = threading.RLock()
+        self._lock = self.sim.lock          # the model's: stepping, services and commands
         self._errors = ThrottledLog()
         self._batch = StepBatch(background=True)    # sends while the next step is prepared
         self.control = SimulationControl(self.sim, PAUSED if params.paused else RUNNING)
@@ -92,14 +91,12 @@ class SimulatorNode:
             self.sim.add_extension(sensors)
             self.extras = ExtrasFace(profile, self.sim, sensors, params.accel_sign)
         models = ModelLibrary(models_dir) if models_dir else None
-        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models),
-                             self._lock)
+        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models))
         self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
-            self.cell = CellFace(self.sim, self.vrep.streams, self._lock, self._tf_static)
-        # publication order: the cell enables the blob streams before /vrep publishes streams
+            self.cell = CellFace(self.sim, self._tf_static)
         self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]
@@ -183,6 +180,7 @@ class SimulatorNode:
             self._batch.add(self._clock, Clock(clock=step.stamp))
         for face in self.faces:
             face.publish(step)
+        step.send_tf()
         return True
 
     def _step_failed(self, trace: str):
@@ -218,6 +216,7 @@ class SimulatorNode:
                     step = self._step_info()
                     for face in self.faces:
                         face.publish_idle(step)
+                    step.send_tf()
                     batch.flush()
                 time.sleep(_IDLE_SLEEP_S)
                 deadline = time.monotonic()

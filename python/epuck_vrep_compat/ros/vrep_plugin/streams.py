@@ -137,8 +137,10 @@ class VrepStreams:
             self._tf.unregister()
             self._tf = None
 
-    def publish(self, batch, secs: int, nsecs: int):
-        """One simulation step: every publisher stream, in the order they were enabled."""
+    def publish(self, batch, secs: int, nsecs: int, send_transforms=None):
+        """One simulation step: every publisher stream, in the order they were enabled;
+        ``send_transforms(msg)`` takes the get_transform streams' TFMessage (by default it goes
+        into the batch on ``/tf`` at once)."""
         if not self._publishers:
             return
         step = StreamStep(self.backend, self._frames, secs, nsecs)
@@ -156,8 +158,12 @@ class VrepStreams:
                 transforms.append(msg)
             else:
                 batch.add(stream.publisher, msg)
-        if transforms:
+        if not transforms:
+            return
+        if send_transforms is None:
             batch.add(self._tf, TFMessage(transforms))
+        else:
+            send_transforms(TFMessage(transforms))
 
     def _build(self, stream: _PublisherStream, step: StreamStep, batch):
         kind = stream.kind
