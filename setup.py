@@ -6,6 +6,7 @@ setup(**generate_distutils_setup(
     packages=[
         "epuck_vrep_compat",
         "epuck_vrep_compat.cell",
+        "epuck_vrep_compat.cell.devices",
         "epuck_vrep_compat.devices",
         "epuck_vrep_compat.scene",
         "epuck_vrep_compat.sim",

@@ -8,7 +8,7 @@ import pytest
 
 from epuck_vrep_compat.cell.separation import operator_separation
 from epuck_vrep_compat.cell.world import build_simulation
-from epuck_vrep_compat.devices.mecanum import wheel_speeds
+from epuck_vrep_compat.cell.devices.mecanum import wheel_speeds
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl

@@ -26,7 +26,7 @@ LAYERS = (
     ("scene",),                         # scene and model files, registry, placement
     ("devices",),                       # what gives registry objects behaviour
     ("sim",),                           # the simulation and its extension interface
-    ("cell",),                          # the industrial cell, an extension of the simulation
+    ("cell",),                          # the industrial cell and its devices, an extension
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros",),                           # the simulator node and its faces
     ("thesis", "nodes", "fidelity"),    # client nodes: they talk to the simulator through ROS

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from epuck_vrep_compat.cell.world import build_simulation
-from epuck_vrep_compat.devices.mecanum import (
+from epuck_vrep_compat.cell.devices.mecanum import (
     WHEEL_LX_PLUS_LY_M, WHEEL_RADIUS_M, WHEELS, body_twist, wheel_speeds)
 from epuck_vrep_compat.scene.scene_file import load_scene
 

@@ -13,12 +13,12 @@ import pybullet as pb
 
 from epuck_vrep_compat._core import GROUP_ALL
 from epuck_vrep_compat.cell.loaded_models import load_cell_robot
-from epuck_vrep_compat.devices.arm_script import scripted_motion
-from epuck_vrep_compat.devices.articulated import ArticulatedRobot
-from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
-from epuck_vrep_compat.devices.link_collisions import LinkCollisions
-from epuck_vrep_compat.devices.operator import add_operator
-from epuck_vrep_compat.devices.ray_proximity import RayProximityBank
+from epuck_vrep_compat.cell.devices.arm_script import scripted_motion
+from epuck_vrep_compat.cell.devices.articulated import ArticulatedRobot
+from epuck_vrep_compat.cell.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
+from epuck_vrep_compat.cell.devices.link_collisions import LinkCollisions
+from epuck_vrep_compat.cell.devices.operator import add_operator
+from epuck_vrep_compat.cell.devices.ray_proximity import RayProximityBank
 from epuck_vrep_compat.geometry.transforms import yaw_of
 from epuck_vrep_compat.sim.extension import SimulationExtension
 

@@ -1,3 +1,3 @@
 """devices layer of epuck_vrep_compat: the components that give registry objects behaviour
-(wheel joints, proximity and vision sensors of the e-puck; the cell's arms, ray sensors,
-cameras and walking operator)."""
+(wheel joints, proximity and vision sensors of the e-puck). The cell's own devices are in
+:mod:`epuck_vrep_compat.cell.devices`."""
