@@ -8,6 +8,7 @@ setup(**generate_distutils_setup(
         "epuck_vrep_compat.cell",
         "epuck_vrep_compat.cell.devices",
         "epuck_vrep_compat.devices",
+        "epuck_vrep_compat.epuck",
         "epuck_vrep_compat.scene",
         "epuck_vrep_compat.sim",
         "epuck_vrep_compat.ros",

@@ -18,7 +18,7 @@ import os
 import numpy as np
 
 from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim import paper_robot as paper
+from epuck_vrep_compat.epuck import paper_robot as paper
 from epuck_vrep_compat.sim.simulation import Simulation
 
 WORLDS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "worlds")

@@ -14,8 +14,8 @@ from epuck_vrep_compat.ros.epuck.profiles import EPUCK2_DRIVER, PROFILES
 from epuck_vrep_compat.ros.epuck.transforms import robot_child_frames
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
 from epuck_vrep_compat.scene.scene_file import SceneError, parse_scene
-from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Sensors, Epuck2Settings
-from epuck_vrep_compat.sim.noise import NoiseSettings
+from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Sensors, Epuck2Settings
+from epuck_vrep_compat.epuck.noise import NoiseSettings
 from epuck_vrep_compat.sim.simulation import Simulation
 
 LINE = {"min_m": [-0.5, -0.005], "max_m": [0.5, 0.005], "color": [0, 0, 0]}

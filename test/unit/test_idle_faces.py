@@ -20,7 +20,7 @@ from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim.cameras import render_robot_cameras
+from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 
 REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 PROFILE = PROFILES["vrep"]

@@ -9,7 +9,7 @@ import pytest
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.scene.epuck_model import next_robot_number, suffix_number
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
-from epuck_vrep_compat.sim.cameras import render_robot_cameras
+from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 from epuck_vrep_compat.sim.simulation import Simulation
 
 WORLDS = os.path.join(os.path.dirname(__file__), "..", "..", "worlds")

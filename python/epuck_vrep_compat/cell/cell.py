@@ -20,7 +20,7 @@ from epuck_vrep_compat.cell.devices.link_collisions import LinkCollisions
 from epuck_vrep_compat.cell.devices.operator import add_operator
 from epuck_vrep_compat.cell.devices.ray_proximity import RayProximityBank
 from epuck_vrep_compat.geometry.transforms import yaw_of
-from epuck_vrep_compat.sim.extension import SimulationExtension
+from epuck_vrep_compat.devices.extension import SimulationExtension
 
 # Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
 LASER_SEED_OFFSET = 0x1A5E

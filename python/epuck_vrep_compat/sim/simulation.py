@@ -11,7 +11,7 @@ change: a removed object's handle is never given again. Commands arrive on other
 robot name, and find the robot's row under a lock of their own.
 
 What the e-pucks' arena does not hold (the industrial cell) comes in as an extension
-(:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`): the simulation calls its hooks
+(:class:`~epuck_vrep_compat.devices.extension.SimulationExtension`): the simulation calls its hooks
 and never names it.
 """
 import math
@@ -23,7 +23,11 @@ import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
 from epuck_vrep_compat.compat.epuck_names import VREP
-from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.devices.components import CameraSpec, VisionSensor
+from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.epuck.components import ConeProximity, WheelJoint
+from epuck_vrep_compat.epuck.leds import RobotLeds
+from epuck_vrep_compat.epuck.noise import NoiseSettings
 from epuck_vrep_compat.geometry.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import (
@@ -31,9 +35,6 @@ from epuck_vrep_compat.scene.epuck_model import (
 from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.sim.arena import build_arena
-from epuck_vrep_compat.sim.extension import SimulationExtension
-from epuck_vrep_compat.sim.leds import RobotLeds
-from epuck_vrep_compat.sim.noise import NoiseSettings
 
 
 @dataclass

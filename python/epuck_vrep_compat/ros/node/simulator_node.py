@@ -48,7 +48,7 @@ from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
-from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Sensors
+from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Sensors
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
 from epuck_vrep_compat.vrep.backend import VrepBackend
 

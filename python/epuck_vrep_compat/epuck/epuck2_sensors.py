@@ -1,7 +1,7 @@
 """The e-puck2's sensors beyond the e-puck's (its driver's ``dist_sens``, ``mag_field``,
 ``battery``, ``floor``, ``microphone``), as model state read after each step like the swarm's.
 
-A :class:`~epuck_vrep_compat.sim.extension.SimulationExtension`: after every step of the
+A :class:`~epuck_vrep_compat.devices.extension.SimulationExtension`: after every step of the
 e-pucks it fills one row per robot (rows as ``sim.robot_names``):
 
 * ``tof_m`` (N,): the VL53L0X time-of-flight range, ray cast in the C++ core
@@ -31,7 +31,7 @@ import numpy as np
 
 from epuck_vrep_compat import TofSensorArray
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
-from epuck_vrep_compat.sim.extension import SimulationExtension
+from epuck_vrep_compat.devices.extension import SimulationExtension
 
 # ground sensors in the body frame (x forward, y left), metres: the ground module's three
 # sensors in a row across the front, under the body
