@@ -5,6 +5,7 @@ from catkin_pkg.python_setup import generate_distutils_setup
 setup(**generate_distutils_setup(
     packages=[
         "epuck_vrep_compat",
+        "epuck_vrep_compat.builder",
         "epuck_vrep_compat.cell",
         "epuck_vrep_compat.cell.devices",
         "epuck_vrep_compat.devices",

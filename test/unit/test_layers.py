@@ -28,6 +28,7 @@ LAYERS = (
     ("epuck",),                         # the e-puck family (below sim: Simulation holds the swarm)
     ("sim",),                           # the simulation and its extension interface
     ("cell",),                          # the industrial cell and its devices, an extension
+    ("builder",),                       # one simulation from a scene and a config, every extension
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros",),                           # the simulator node and its faces
     ("thesis", "nodes", "fidelity"),    # client nodes: they talk to the simulator through ROS
