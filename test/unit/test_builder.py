@@ -3,11 +3,14 @@
 import hashlib
 import os
 
+import pytest
+
 from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.builder.streams import (
     CELL_KINECT, CELL_LASER, EPUCK2_MAGNETOMETER, EPUCK2_TOF, stream_seed)
 from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
-from epuck_vrep_compat.scene.scene_file import load_scene
+from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
+from epuck_vrep_compat.sim.simulation import Simulation
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -33,3 +36,9 @@ def test_the_builder_adds_the_extensions_the_scene_and_the_config_ask_for():
     assert sim.extensions == [sim.epuck2]
     assert (sim.epuck2.tof_seed, sim.epuck2.mag_seed) == (
         stream_seed(5, EPUCK2_TOF), stream_seed(5, EPUCK2_MAGNETOMETER))
+
+
+def test_the_simulation_alone_refuses_a_scene_with_a_cell():
+    scene = load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml"))
+    with pytest.raises(SceneError, match="'cell' section.*build_simulation"):
+        Simulation(scene, [])

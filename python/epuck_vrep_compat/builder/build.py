@@ -41,7 +41,7 @@ def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulatio
     simulation's extensions. SceneError when the scene's robots find no place."""
     c = config if config is not None else SimulationConfig()
     sim = Simulation(scene, c.robot_names, c.step_s, c.seed, c.noise, c.cmd_timeout_s, c.camera,
-                     c.robot_namer)
+                     c.robot_namer, extended_sections=("cell",))
     sim.cell = None
     if scene.cell is not None:
         from epuck_vrep_compat.cell.cell import Cell     # pybullet only when a cell is used

@@ -52,9 +52,12 @@ class Simulation:
 
     def __init__(self, scene: Scene, robot_names: Sequence[str], step_s: float = 0.05,
                  seed: int = 0, noise: NoiseSettings = None, cmd_timeout_s: float = 1.0,
-                 camera: CameraSpec = None, robot_namer: Callable[[int], str] = None):
+                 camera: CameraSpec = None, robot_namer: Callable[[int], str] = None,
+                 extended_sections: Sequence[str] = ()):
         """``robot_namer`` names robot number k (suffix ``#k-1``) added later; by default
-        ``ePuck<k>``, as the V-REP model's script."""
+        ``ePuck<k>``, as the V-REP model's script. ``extended_sections``: the scene's sections
+        that extensions build (the builder's word); any other is refused (SceneError)."""
+        scene.refuse_unbuilt(extended_sections)
         if step_s <= 0.0 or not math.isfinite(step_s):
             raise ValueError(f"step_s must be a positive number, got {step_s}")
         self.scene = scene
