@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from epuck_vrep_compat.compat import vrep_codes as vc
-from epuck_vrep_compat.devices.components import ComponentError, wrap_angle
+from epuck_vrep_compat.devices.components import ComponentError, VisionSensor, wrap_angle
 
 
 class WheelJoint:
@@ -84,4 +84,16 @@ def _core_to_vrep(v):
     return np.array([-z, y, x])
 
 
-__all__ = ["ConeProximity", "WheelJoint"]
+
+def attach_components(sim, name: str, parts):
+    """Give a new e-puck's registry objects (``parts``, a ``RobotParts`` of robot ``name`` in
+    ``sim``) their behaviour: its two wheel joints, its IR cones and its camera."""
+    for column, side in enumerate(("left", "right")):
+        parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(sim, name, column)
+    for k in range(len(sim.model.sensors)):
+        parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(sim, name, k)
+    parts.parts["camera"].properties["vision"] = VisionSensor(
+        sim, parts.handle("camera"), sim.camera, ignore_handle=parts.root.handle)
+
+
+__all__ = ["ConeProximity", "WheelJoint", "attach_components"]

@@ -23,9 +23,9 @@ import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
 from epuck_vrep_compat.compat.epuck_names import VREP
-from epuck_vrep_compat.devices.components import CameraSpec, VisionSensor
+from epuck_vrep_compat.devices.components import CameraSpec
 from epuck_vrep_compat.devices.extension import SimulationExtension
-from epuck_vrep_compat.epuck.components import ConeProximity, WheelJoint
+from epuck_vrep_compat.epuck.components import attach_components
 from epuck_vrep_compat.epuck.leds import RobotLeds
 from epuck_vrep_compat.epuck.noise import NoiseSettings
 from epuck_vrep_compat.geometry.transforms import quat_from_yaw, yaw_of
@@ -171,7 +171,7 @@ class Simulation:
         self.swarm.add_robot(parts.root.handle, x, y, yaw)
         index = self.swarm.size - 1
         self.swarm.set_odometry(index, x, y, yaw)
-        self._attach_components(name, parts)
+        attach_components(self, name, parts)
         with self._commands_lock:
             self.robots.append(parts)
             self.robot_names.append(name)
@@ -181,14 +181,6 @@ class Simulation:
                                         np.append(self.command.stamp_s, -np.inf))
         self.leds.add(name)
         return parts
-
-    def _attach_components(self, name, parts):
-        for column, side in enumerate(("left", "right")):
-            parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(self, name, column)
-        for k in range(len(self.model.sensors)):
-            parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(self, name, k)
-        parts.parts["camera"].properties["vision"] = VisionSensor(
-            self, parts.handle("camera"), self.camera, ignore_handle=parts.root.handle)
 
     def _root_pose_source(self, name):
         def pose():
