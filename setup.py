@@ -5,8 +5,13 @@ from catkin_pkg.python_setup import generate_distutils_setup
 setup(**generate_distutils_setup(
     packages=[
         "epuck_vrep_compat",
+        "epuck_vrep_compat.builder",
+        "epuck_vrep_compat.compat",
+        "epuck_vrep_compat.geometry",
         "epuck_vrep_compat.cell",
+        "epuck_vrep_compat.cell.devices",
         "epuck_vrep_compat.devices",
+        "epuck_vrep_compat.epuck",
         "epuck_vrep_compat.scene",
         "epuck_vrep_compat.sim",
         "epuck_vrep_compat.ros",

@@ -17,9 +17,9 @@ import os
 
 import numpy as np
 
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
+from epuck_vrep_compat.epuck import paper_robot as paper
 from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim import paper_robot as paper
-from epuck_vrep_compat.sim.simulation import Simulation
 
 WORLDS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "worlds")
 WHEEL_RADIUS_M = 0.02
@@ -27,7 +27,8 @@ WHEEL_RADIUS_M = 0.02
 
 def run(world, speed_m_s, readings, seed):
     """(accel (N, 3), proximity0 (N,)) of ``readings`` steps, after 0.5 s of getting under way."""
-    sim = Simulation(load_scene(os.path.join(WORLDS, world)), ["ePuck0"], seed=seed)
+    sim = build_simulation(load_scene(os.path.join(WORLDS, world)),
+                           SimulationConfig(["ePuck0"], seed=seed))
     accel, prox = [], []
     for i in range(readings + 10):
         sim.set_wheel_speeds("ePuck0", speed_m_s / WHEEL_RADIUS_M, speed_m_s / WHEEL_RADIUS_M)

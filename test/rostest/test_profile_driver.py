@@ -11,7 +11,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, Imu, LaserScan, Range
 from visualization_msgs.msg import Marker
 
-from epuck_vrep_compat.sim import paper_robot as paper
+from epuck_vrep_compat.epuck import paper_robot as paper
 
 from sim_test_helpers import PKG, RosoutGuard, simulator_topics, wait_for_message
 

@@ -11,7 +11,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, Imu, Range
 from std_msgs.msg import UInt8MultiArray
 
-from epuck_vrep_compat.sim import paper_robot as paper
+from epuck_vrep_compat.epuck import paper_robot as paper
 
 from sim_test_helpers import (PKG, Collector, RosoutGuard, simulator_topics, wait_for_message,
                               wait_sim_time)

@@ -11,7 +11,7 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 
-from epuck_vrep_compat.sim import paper_robot as paper
+from epuck_vrep_compat.epuck import paper_robot as paper
 from sim_test_helpers import PKG, wait_for_message
 
 

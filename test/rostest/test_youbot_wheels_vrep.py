@@ -12,7 +12,7 @@ import rospy
 import rostest
 from geometry_msgs.msg import Twist, Vector3
 
-from epuck_vrep_compat.devices.mecanum import WHEELS, wheel_speeds
+from epuck_vrep_compat.cell.devices.mecanum import WHEELS, wheel_speeds
 from sim_test_helpers import RosoutGuard, call, handle, wait_sim_time
 
 WORLD = -1

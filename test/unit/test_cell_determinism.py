@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.scene.scene_file import load_scene
 
 WORLD = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
@@ -34,7 +34,7 @@ def sims():
     made = []
 
     def make(seed):
-        sim = build_simulation(load_scene(WORLD), [], seed=seed)
+        sim = build_simulation(load_scene(WORLD), SimulationConfig([], seed=seed))
         made.append(sim)
         return sim
     yield make

@@ -6,9 +6,9 @@ import os
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.builder.build import build_simulation
+from epuck_vrep_compat.cell.devices.mecanum import wheel_speeds
 from epuck_vrep_compat.cell.separation import operator_separation
-from epuck_vrep_compat.cell.world import build_simulation
-from epuck_vrep_compat.devices.mecanum import wheel_speeds
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
@@ -18,7 +18,7 @@ REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 
 
 def backend_of(world):
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)), [])
+    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)))
     return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
                        models=ModelLibrary(os.path.join(REPO, "models")))
 

@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.devices.operator import WalkingOperator
+from epuck_vrep_compat.cell.devices.operator import WalkingOperator
 from epuck_vrep_compat.geometry.transforms import quat_rotate
 from epuck_vrep_compat.scene.cell_file import parse_cell
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
@@ -81,7 +81,7 @@ def test_the_operator_walks_out_and_back_at_its_speed():
 
 
 def test_a_vrep_matrix_becomes_the_same_pose():
-    from epuck_vrep_compat.devices.cell_sensors import pose_from_vrep_matrix
+    from epuck_vrep_compat.cell.devices.cell_sensors import pose_from_vrep_matrix
     # camera 1 of the thesis: x axis = first column, translation = fourth
     m = [-0.9983, 0.0558, 0.0183, 1.4507, 0.0543, 0.9956, -0.0770, 1.6420,
          -0.0225, -0.0759, -0.9969, 2.8738]
@@ -102,7 +102,7 @@ def test_the_robot_description_names_links_as_their_scene_objects():
 
     import pybullet as pb
 
-    from epuck_vrep_compat.devices.articulated import ArticulatedRobot
+    from epuck_vrep_compat.cell.devices.articulated import ArticulatedRobot
     from epuck_vrep_compat.scene.registry import SceneRegistry
 
     spec = parse_cell({"robots": [{"name": "left_arm", "urdf": "../models/irb140.urdf",

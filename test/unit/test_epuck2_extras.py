@@ -7,6 +7,9 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
+from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
+from epuck_vrep_compat.epuck.noise import NoiseSettings
 from epuck_vrep_compat.ros.epuck import epuck2_leds
 from epuck_vrep_compat.ros.epuck import extras_messages as build
 from epuck_vrep_compat.ros.epuck.description import robot_urdf
@@ -14,9 +17,6 @@ from epuck_vrep_compat.ros.epuck.profiles import EPUCK2_DRIVER, PROFILES
 from epuck_vrep_compat.ros.epuck.transforms import robot_child_frames
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
 from epuck_vrep_compat.scene.scene_file import SceneError, parse_scene
-from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Sensors, Epuck2Settings
-from epuck_vrep_compat.sim.noise import NoiseSettings
-from epuck_vrep_compat.sim.simulation import Simulation
 
 LINE = {"min_m": [-0.5, -0.005], "max_m": [0.5, 0.005], "color": [0, 0, 0]}
 
@@ -77,11 +77,9 @@ def two_robot_sim(seed=4, noise=True):
                                     {"position_m": [0.5, 0.5], "yaw_rad": 1.0}]})
     settings = NoiseSettings()
     settings.enabled = noise
-    sim = Simulation(scene, ["a", "b"], seed=seed, noise=settings)
-    sensors = Epuck2Sensors(sim, Epuck2Settings(battery_discharge_s=10.0),
-                            scene.floor_regions, scene.arena.floor_color)
-    sim.add_extension(sensors)
-    return sim, sensors
+    sim = build_simulation(scene, SimulationConfig(
+        ["a", "b"], seed=seed, noise=settings, epuck2=Epuck2Settings(battery_discharge_s=10.0)))
+    return sim, sim.epuck2
 
 
 def test_the_extra_sensors_after_steps_and_after_reset():

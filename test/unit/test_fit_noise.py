@@ -13,7 +13,7 @@ from sensor_msgs.msg import Imu, Range
 from epuck_vrep_compat import CollisionWorld, EpuckModel, EpuckSwarm
 from epuck_vrep_compat.fidelity.fit_noise import main
 from epuck_vrep_compat.fidelity.scenarios import SCENARIOS, robot_topics, robots_in
-from epuck_vrep_compat.sim.noise import IrNoise, NoiseSettings
+from epuck_vrep_compat.epuck.noise import IrNoise, NoiseSettings
 
 STEP_S = 0.05
 TRUE = NoiseSettings(

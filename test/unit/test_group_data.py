@@ -4,11 +4,11 @@ import math
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.geometry.transforms import quat_from_axis_angle, quat_from_yaw, quat_mul
 from epuck_vrep_compat.scene.scene_file import parse_scene
 from epuck_vrep_compat.sim.control import SimulationControl
-from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 from epuck_vrep_compat.vrep.group_data import group_data, vrep_euler_angles
 
@@ -19,7 +19,7 @@ SCENE = {"arena": {"size_m": [2.0, 2.0]},
 
 @pytest.fixture
 def backend():
-    sim = Simulation(parse_scene(SCENE), ["ePuck0", "ePuck1"])
+    sim = build_simulation(parse_scene(SCENE), SimulationConfig(["ePuck0", "ePuck1"]))
     return VrepBackend(sim, SimulationControl(sim), real_time=True)
 
 
@@ -135,12 +135,11 @@ def test_batched_poses_equal_one_pose_call_per_object_in_the_cell():
     on the deepest scene there is (arms of up to 16 joints) in a moved configuration."""
     import os
 
-    from epuck_vrep_compat.cell.world import build_simulation
     from epuck_vrep_compat.scene.scene_file import load_scene
     from epuck_vrep_compat.sim.control import RUNNING
 
     world = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
-    sim = build_simulation(load_scene(world), [])
+    sim = build_simulation(load_scene(world))
     try:
         backend = VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True)
         for _ in range(40):

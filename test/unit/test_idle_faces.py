@@ -9,7 +9,8 @@ import rospy.core
 from sensor_msgs.msg import Range
 from tf2_msgs.msg import TFMessage
 
-from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
+from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 from epuck_vrep_compat.ros.epuck import camera as camera_module
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
@@ -20,7 +21,6 @@ from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim.cameras import render_robot_cameras
 
 REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 PROFILE = PROFILES["vrep"]
@@ -67,7 +67,7 @@ def faces(monkeypatch):
     # with (no registration listener), so the publishers work locally, as the faces need
     monkeypatch.setattr(rospy.core, "_client_ready", True)
     sim = build_simulation(load_scene(os.path.join(REPO, "test", "worlds", "empty.yaml")),
-                           [PROFILE.robot_name(i) for i in range(2)])
+                           SimulationConfig([PROFILE.robot_name(i) for i in range(2)]))
     work = []
     for kind, method in (("MessageBatch", "pack_view"),           # every per-step packing
                          ("TransformBatchWire", "frame")):

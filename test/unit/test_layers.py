@@ -24,9 +24,11 @@ LAYERS = (
     ("_core", "paths", "msg", "srv"),   # the compiled core, data paths, generated messages
     ("compat", "geometry"),             # names and codes once; pure geometry: no ROS, no core
     ("scene",),                         # scene and model files, registry, placement
-    ("devices",),                       # what gives registry objects behaviour
+    ("devices",),                       # components and extensions' interfaces, every family's
+    ("epuck",),                         # the e-puck family (below sim: Simulation holds the swarm)
     ("sim",),                           # the simulation and its extension interface
-    ("cell",),                          # the industrial cell, an extension of the simulation
+    ("cell",),                          # the industrial cell and its devices, an extension
+    ("builder",),                       # one simulation from a scene and a config, every extension
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros",),                           # the simulator node and its faces
     ("thesis", "nodes", "fidelity"),    # client nodes: they talk to the simulator through ROS

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from epuck_vrep_compat import CollisionWorld, EpuckModel, EpuckSwarm
-from epuck_vrep_compat.sim.noise import (IrNoise, NoiseConfigError, NoiseSettings, per_sensor,
+from epuck_vrep_compat.epuck.noise import (IrNoise, NoiseConfigError, NoiseSettings, per_sensor,
                                           triple)
 
 
@@ -55,7 +55,7 @@ def test_master_switch_turns_every_source_off():
 
 
 def test_presets_and_the_noise_file(tmp_path):
-    from epuck_vrep_compat.sim.noise_presets import load_noise_file, preset
+    from epuck_vrep_compat.epuck.noise_presets import load_noise_file, preset
     with pytest.raises(NoiseConfigError, match="~noise_preset"):
         preset("real")
     path = tmp_path / "noise.yaml"

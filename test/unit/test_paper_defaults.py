@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from epuck_vrep_compat import CollisionWorld, EpuckModel, EpuckSwarm
-from epuck_vrep_compat.sim import paper_robot as paper
-from epuck_vrep_compat.sim.noise import NoiseSettings
-from epuck_vrep_compat.sim.noise_presets import preset
+from epuck_vrep_compat.epuck import paper_robot as paper
+from epuck_vrep_compat.epuck.noise import NoiseSettings
+from epuck_vrep_compat.epuck.noise_presets import preset
 
 STEP_S = 0.05
 WHEEL_RADIUS_M = 0.02

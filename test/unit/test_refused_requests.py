@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.scene.model_files import MAX_MODEL_FILE_BYTES, ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
@@ -19,7 +19,8 @@ REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 
 
 def make_backend(world, robots):
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)), robots)
+    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)),
+                           SimulationConfig(robots))
     return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
                        models=ModelLibrary(os.path.join(REPO, "models")))
 

@@ -1,8 +1,8 @@
-"""The LED model (sim/leds.py): states by robot name, all off for a new robot, each set stamped
+"""The LED model (epuck/leds.py): states by robot name, all off for a new robot, each set stamped
 with a change count, gone with the robot."""
 import numpy as np
 
-from epuck_vrep_compat.sim.leds import LED_COUNT, RobotLeds
+from epuck_vrep_compat.epuck.leds import LED_COUNT, RobotLeds
 
 
 def test_new_robot_all_off_then_set_and_stamped():

@@ -6,11 +6,11 @@ import os
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
+from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.scene.epuck_model import next_robot_number, suffix_number
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
-from epuck_vrep_compat.sim.cameras import render_robot_cameras
-from epuck_vrep_compat.sim.simulation import Simulation
 
 WORLDS = os.path.join(os.path.dirname(__file__), "..", "..", "worlds")
 TEST_WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")
@@ -18,8 +18,8 @@ RADIUS_M = 0.037
 
 
 def arena_sim(n=2, **kwargs):
-    return Simulation(load_scene(os.path.join(WORLDS, "arena.yaml")),
-                      [f"ePuck{i}" for i in range(n)], **kwargs)
+    return build_simulation(load_scene(os.path.join(WORLDS, "arena.yaml")),
+                            SimulationConfig([f"ePuck{i}" for i in range(n)], **kwargs))
 
 
 def robot_handles(sim, name):
@@ -116,8 +116,8 @@ def test_removing_a_robot_does_not_change_the_others_noise():
     readings are bit for bit those of a run in which nobody was removed, also after a reset
     (which restarts every robot's noise streams)."""
     def run(remove):
-        sim = Simulation(load_scene(os.path.join(TEST_WORLDS, "empty.yaml")),
-                         ["ePuck0", "ePuck1", "ePuck2"], seed=9)
+        sim = build_simulation(load_scene(os.path.join(TEST_WORLDS, "empty.yaml")),
+                               SimulationConfig(["ePuck0", "ePuck1", "ePuck2"], seed=9))
         for k in range(40):
             if k == 15 and remove:
                 sim.remove_robot("ePuck1")
@@ -166,7 +166,7 @@ def test_a_robot_goes_whole_or_not_at_all():
 
 def test_a_full_arena_refuses_a_robot_and_changes_nothing():
     scene = parse_scene({"arena": {"size_m": [0.2, 0.2]}, "robots": [{"position_m": [0, 0]}]})
-    sim = Simulation(scene, ["ePuck0"])
+    sim = build_simulation(scene, SimulationConfig(["ePuck0"]))
     count = len(sim.registry)
     with pytest.raises(SceneError, match="no free place"):
         sim.add_robot()

@@ -7,8 +7,8 @@ import os
 import numpy as np
 import pytest
 
+from epuck_vrep_compat.builder.build import build_simulation
 from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
-from epuck_vrep_compat.cell.world import build_simulation
 from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation,
     static_separation)
@@ -70,8 +70,7 @@ def test_bad_parameters_are_named(field, value):
 
 @pytest.fixture(scope="module")
 def sim():
-    simulation = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_safety.yaml")),
-                                  [])
+    simulation = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_safety.yaml")))
     yield simulation
     simulation.cell.close()
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from tf2_msgs.msg import TFMessage
 
-from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.ros.cell.transforms import CellTransforms
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
@@ -50,7 +50,7 @@ def test_parts_share_one_message_and_an_unchanged_part_is_not_resent():
 @pytest.mark.parametrize("profile, extra", [("vrep", []), ("epuck_driver", ["base_laser"])])
 def test_epuck_fixed_frames_are_static_and_only_moving_ones_per_step(profile, extra):
     sim = build_simulation(load_scene(os.path.join(REPO, "test", "worlds", "empty.yaml")),
-                           [PROFILES[profile].robot_name(i) for i in range(2)])
+                           SimulationConfig([PROFILES[profile].robot_name(i) for i in range(2)]))
     topic = LatchedTopic()
     face = TfFace(PROFILES[profile], sim, StaticTransforms(topic))
     frame = PROFILES[profile].frame
@@ -73,7 +73,7 @@ def test_epuck_fixed_frames_are_static_and_only_moving_ones_per_step(profile, ex
 
 @pytest.fixture
 def cell_sim():
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")), [])
+    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")))
     yield sim
     sim.cell.close()
 

@@ -4,11 +4,11 @@ import os
 
 import pytest
 
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.scene.model_files import ModelFileError, ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
-from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 
 REPO = os.path.join(os.path.dirname(__file__), "..", "..")
@@ -18,7 +18,8 @@ EPUCK_YAML = os.path.abspath(os.path.join(MODELS, "ePuck.yaml"))
 
 @pytest.fixture
 def backend():
-    sim = Simulation(load_scene(os.path.join(REPO, "worlds", "arena.yaml")), ["ePuck0", "ePuck1"])
+    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", "arena.yaml")),
+                           SimulationConfig(["ePuck0", "ePuck1"]))
     return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
                        models=ModelLibrary(MODELS))
 

@@ -16,6 +16,7 @@ from vrep_common.srv import (
     simRosDisablePublisherRequest, simRosDisableSubscriberRequest, simRosEnablePublisherRequest,
     simRosEnableSubscriberRequest)
 
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.ros.vrep_plugin.stream_names import (
     Aux, FrameNames, resolve_topic, sanitize, stream_identity, unique_topic_name)
@@ -23,7 +24,6 @@ from epuck_vrep_compat.ros.vrep_plugin.stream_subscribers import RawString
 from epuck_vrep_compat.ros.vrep_plugin.streams import VrepStreams
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, STOPPED, SimulationControl
-from epuck_vrep_compat.sim.simulation import Simulation
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
 WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")
@@ -128,7 +128,8 @@ class FakeBatch:
 @pytest.fixture
 def vrep():
     rospy.rostime.set_rostime_initialized(True)      # rospy's log throttling reads the time
-    sim = Simulation(load_scene(os.path.join(WORLDS, "wall.yaml")), ["ePuck0"], seed=1)
+    sim = build_simulation(load_scene(os.path.join(WORLDS, "wall.yaml")),
+                           SimulationConfig(["ePuck0"], seed=1))
     control = SimulationControl(sim, RUNNING)
     backend = VrepBackend(sim, control, real_time=False)
     wiring = FakeWiring()

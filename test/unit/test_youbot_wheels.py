@@ -6,8 +6,8 @@ import os
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.cell.world import build_simulation
-from epuck_vrep_compat.devices.mecanum import (
+from epuck_vrep_compat.builder.build import build_simulation
+from epuck_vrep_compat.cell.devices.mecanum import (
     WHEEL_LX_PLUS_LY_M, WHEEL_RADIUS_M, WHEELS, body_twist, wheel_speeds)
 from epuck_vrep_compat.scene.scene_file import load_scene
 
@@ -16,8 +16,7 @@ REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 
 @pytest.fixture
 def sim():
-    simulation = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")),
-                                  [])
+    simulation = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")))
     yield simulation
     simulation.cell.close()
 

@@ -14,31 +14,28 @@ import pybullet as pb
 from epuck_vrep_compat._core import GROUP_ALL
 from epuck_vrep_compat.cell.blob_signals import blob_signal_names, write_blob_signals
 from epuck_vrep_compat.cell.commands import CellCommands
+from epuck_vrep_compat.cell.devices.arm_script import scripted_motion
+from epuck_vrep_compat.cell.devices.articulated import ArticulatedRobot
+from epuck_vrep_compat.cell.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
+from epuck_vrep_compat.cell.devices.link_collisions import LinkCollisions
+from epuck_vrep_compat.cell.devices.operator import add_operator
+from epuck_vrep_compat.cell.devices.ray_proximity import RayProximityBank
 from epuck_vrep_compat.cell.loaded_models import load_cell_robot
-from epuck_vrep_compat.devices.arm_script import scripted_motion
-from epuck_vrep_compat.devices.articulated import ArticulatedRobot
-from epuck_vrep_compat.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
-from epuck_vrep_compat.devices.link_collisions import LinkCollisions
-from epuck_vrep_compat.devices.operator import add_operator
-from epuck_vrep_compat.devices.ray_proximity import RayProximityBank
+from epuck_vrep_compat.devices.extension import SimulationExtension
 from epuck_vrep_compat.geometry.transforms import yaw_of
-from epuck_vrep_compat.sim.extension import SimulationExtension
-
-# Seeds of the cell's noise sources, offset from the simulation's seed (one stream each).
-LASER_SEED_OFFSET = 0x1A5E
-KINECT_SEED_OFFSET = 0x71C7
 
 
 class Cell(SimulationExtension):
     """The industrial cell, as an extension of the :class:`Simulation`: it builds the cell's
     devices (arms, operator, proximity sensors, laser, ceiling cameras, Kinect) into the
     simulation's registry and collision world, steps them after the e-pucks, and answers the
-    simulation's hooks for its objects (removal, moves, velocities, reset)."""
+    simulation's hooks for its objects (removal, moves, velocities, reset). Its noise streams
+    are seeded with ``laser_seed`` and ``kinect_seed`` (the builder derives them by name)."""
 
-    def __init__(self, sim, spec, seed: int):
+    def __init__(self, sim, spec, laser_seed: int, kinect_seed: int):
         self.sim = sim
         self.spec = spec
-        self.seed = int(seed)
+        self.laser_seed, self.kinect_seed = int(laser_seed), int(kinect_seed)
         registry, world = sim.registry, sim.world
         self.client = pb.connect(pb.DIRECT)
         pb.setGravity(0.0, 0.0, -9.81, physicsClientId=self.client)
@@ -83,7 +80,7 @@ class Cell(SimulationExtension):
         if self.laser is None:
             return
         self.laser_handle, self.scanner = add_laser(self.laser, registry, world,
-                                                    self.seed + LASER_SEED_OFFSET)
+                                                    self.laser_seed)
         self._scan_every = max(1, int(round(1.0 / (self.laser.rate_hz * self.sim.step_s))))
 
     def _build_cameras(self):
@@ -95,7 +92,7 @@ class Cell(SimulationExtension):
         self.kinect_depth = self.kinect_rgb = None
         if self.spec.kinect is not None:
             self.kinect_base, self.kinect_depth, self.kinect_rgb, self.depth_noise = add_kinect(
-                self.sim, self.spec.kinect, self.seed + KINECT_SEED_OFFSET)
+                self.sim, self.spec.kinect, self.kinect_seed)
 
     # --- stepping -----------------------------------------------------------------------------
     def step(self, dt: float):
@@ -277,9 +274,9 @@ class Cell(SimulationExtension):
         if self.operator is not None:
             self.operator.reset()
         if self.laser is not None:
-            self.scanner.reseed(self.seed + LASER_SEED_OFFSET)
+            self.scanner.reseed(self.laser_seed)
         if self.spec.kinect is not None:
-            self.depth_noise.reseed(self.seed + KINECT_SEED_OFFSET)
+            self.depth_noise.reseed(self.kinect_seed)
         self._sync_world()
         self._sense()
 

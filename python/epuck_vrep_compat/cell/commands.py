@@ -9,7 +9,7 @@ gone ignores it. Clamping itself is the devices' (``devices/articulated.py``, ``
 import math
 from typing import NamedTuple, Optional
 
-from epuck_vrep_compat.devices.arm_joint import POSITION
+from epuck_vrep_compat.cell.devices.arm_joint import POSITION
 
 UNKNOWN, NOT_FINITE, CLAMPED = "unknown", "not finite", "clamped"
 

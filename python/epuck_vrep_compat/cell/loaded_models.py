@@ -2,7 +2,7 @@
 youBot model file): a working URDF robot with its joints, sensors-free, no default script,
 named as V-REP names a pasted copy when the name is taken: the base ``IRB140#0`` and every
 joint and link with the same suffix (``IRB140_joint1#0``)."""
-from epuck_vrep_compat.devices.articulated import ArticulatedRobot
+from epuck_vrep_compat.cell.devices.articulated import ArticulatedRobot
 from epuck_vrep_compat.scene.cell_file import ArmSpec
 
 LOADED_COLOR = (0.7, 0.7, 0.75)

@@ -1,3 +1,4 @@
-"""devices layer of epuck_vrep_compat: the components that give registry objects behaviour
-(wheel joints, proximity and vision sensors of the e-puck; the cell's arms, ray sensors,
-cameras and walking operator)."""
+"""devices layer of epuck_vrep_compat: what gives registry objects behaviour, shared by every
+robot family: the components' interface and vision sensor (:mod:`.components`) and the
+simulation's extensions' interface (:mod:`.extension`). A family's own devices are in its
+package (:mod:`epuck_vrep_compat.epuck`, :mod:`epuck_vrep_compat.cell.devices`)."""

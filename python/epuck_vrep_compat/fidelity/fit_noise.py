@@ -2,7 +2,7 @@
 
 Fits the simulator's noise parameters from a bag of any e-puck (the ``vrep`` or
 ``epuck_driver`` profile's topics, or V-REP's own) and writes them as a noise file
-(``sim/noise_presets.py``'s format: the simulator loads it with ``~noise_file`` or the launch
+(``epuck/noise_presets.py``'s format: the simulator loads it with ``~noise_file`` or the launch
 argument ``noise_file:=``), with the standard errors, 95 % intervals and sample counts under
 ``fit``.
 

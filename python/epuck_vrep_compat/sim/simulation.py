@@ -11,7 +11,7 @@ later rows up by one. Handles never change: a removed object's handle is never g
 Wheel commands arrive on other threads by robot name, under a lock of their own (no step wait).
 
 What the e-pucks' arena does not hold (the industrial cell) comes in as an extension
-(:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`): called, never named.
+(:class:`~epuck_vrep_compat.devices.extension.SimulationExtension`): called, never named.
 """
 import math
 import threading
@@ -22,7 +22,11 @@ import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld, EpuckSwarm
 from epuck_vrep_compat.compat.epuck_names import VREP
-from epuck_vrep_compat.devices.components import CameraSpec, ConeProximity, VisionSensor, WheelJoint
+from epuck_vrep_compat.devices.components import CameraSpec
+from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.epuck.components import attach_components
+from epuck_vrep_compat.epuck.leds import RobotLeds
+from epuck_vrep_compat.epuck.noise import NoiseSettings
 from epuck_vrep_compat.geometry.transforms import quat_from_yaw, yaw_of
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.epuck_model import (
@@ -30,9 +34,6 @@ from epuck_vrep_compat.scene.epuck_model import (
 from epuck_vrep_compat.scene.placement import free_place, place_robots
 from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.sim.arena import build_arena
-from epuck_vrep_compat.sim.extension import SimulationExtension
-from epuck_vrep_compat.sim.leds import RobotLeds
-from epuck_vrep_compat.sim.noise import NoiseSettings
 
 
 @dataclass
@@ -50,9 +51,12 @@ class Simulation:
 
     def __init__(self, scene: Scene, robot_names: Sequence[str], step_s: float = 0.05,
                  seed: int = 0, noise: NoiseSettings = None, cmd_timeout_s: float = 1.0,
-                 camera: CameraSpec = None, robot_namer: Callable[[int], str] = None):
+                 camera: CameraSpec = None, robot_namer: Callable[[int], str] = None,
+                 extended_sections: Sequence[str] = ()):
         """``robot_namer`` names robot number k (suffix ``#k-1``) added later; by default
-        ``ePuck<k>``, as the V-REP model's script."""
+        ``ePuck<k>``, as the V-REP model's script. ``extended_sections``: the scene's sections
+        that extensions build (the builder's word); any other is refused (SceneError)."""
+        scene.refuse_unbuilt(extended_sections)
         if step_s <= 0.0 or not math.isfinite(step_s):
             raise ValueError(f"step_s must be a positive number, got {step_s}")
         self.scene = scene
@@ -167,7 +171,7 @@ class Simulation:
         self.swarm.add_robot(parts.root.handle, x, y, yaw)
         index = self.swarm.size - 1
         self.swarm.set_odometry(index, x, y, yaw)
-        self._attach_components(name, parts)
+        attach_components(self, name, parts)
         with self._commands_lock:
             self.robots.append(parts)
             self.robot_names.append(name)
@@ -177,14 +181,6 @@ class Simulation:
                                         np.append(self.command.stamp_s, -np.inf))
         self.leds.add(name)
         return parts
-
-    def _attach_components(self, name, parts):
-        for column, side in enumerate(("left", "right")):
-            parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(self, name, column)
-        for k in range(len(self.model.sensors)):
-            parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(self, name, k)
-        parts.parts["camera"].properties["vision"] = VisionSensor(
-            self, parts.handle("camera"), self.camera, ignore_handle=parts.root.handle)
 
     def _root_pose_source(self, name):
         def pose():

@@ -15,7 +15,7 @@ from epuck_vrep_compat.cell.commands import CLAMPED, UNKNOWN
 from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.topics import (
     BASE_CMD_VEL_TOPIC, JOINT_COMMAND_TOPIC, JOINT_STATES_TOPIC)
-from epuck_vrep_compat.devices.articulated import POSITION, VELOCITY
+from epuck_vrep_compat.cell.devices.articulated import POSITION, VELOCITY
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
 

@@ -17,7 +17,7 @@ from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 from epuck_vrep_compat.ros.transport.wire import ImageWire
-from epuck_vrep_compat.sim.cameras import render_robot_cameras
+from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 
 
 class _Watch(rospy.SubscribeListener):

@@ -15,7 +15,7 @@ In every convention the core then clamps to the motors' 1000 steps/s, keeping th
 import math
 
 from epuck_vrep_compat.ros.epuck import epuck2_leds
-from epuck_vrep_compat.sim.leds import LED_COUNT
+from epuck_vrep_compat.epuck.leds import LED_COUNT
 
 SCALINGS = ("si", "vrep", "epuck_driver")
 _INPUT_LIMIT = 1.0e3     # |v|, |w| beyond this are clamped before any arithmetic (no overflow)

@@ -3,7 +3,7 @@ roll and pitch from the accelerometer), ``dist_sens``, ``mag_field``, ``mag_fiel
 ``battery``, ``floor``, ``microphone``; the e-puck 1 driver's ``floor``, ``microphone`` and
 ``motor_speed`` markers.
 
-Readings come from the model after each step (:class:`~epuck_vrep_compat.sim.epuck2_sensors.
+Readings come from the model after each step (:class:`~epuck_vrep_compat.epuck.epuck2_sensors.
 Epuck2Sensors` and the swarm). As the other per-step topics, the fixed-size messages are laid
 out once (``extras_wire``) and each step writes only their numbers, for all robots at once;
 the text markers are re-serialised only when their text changes. Nothing is built while nobody

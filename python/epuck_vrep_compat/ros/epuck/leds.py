@@ -3,7 +3,7 @@
 The markers are latched and ``frame_locked`` to each robot's base_link, so rviz moves them with
 TF and they are re-sent only when an LED changes or the scene's objects change; every array
 starts with a DELETEALL, so a removed robot or obstacle leaves rviz too. The LED states are the
-model's (:class:`epuck_vrep_compat.sim.leds.RobotLeds`, by robot name): ``cmd_led`` sets them
+model's (:class:`epuck_vrep_compat.epuck.leds.RobotLeds`, by robot name): ``cmd_led`` sets them
 there, as ``cmd_vel`` sets wheel speeds, and this face reads them after each step.
 """
 import threading

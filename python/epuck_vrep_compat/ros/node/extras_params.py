@@ -5,7 +5,7 @@ import math
 import rospy
 
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed as _get
-from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Settings
+from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
 
 
 def _finite_list(name, default, count):

@@ -14,10 +14,10 @@ from epuck_vrep_compat.ros.epuck.commands import SCALINGS
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.robot_names import parse_robot_names, unconventional_names
 from epuck_vrep_compat.ros.node.extras_params import read_extras_settings
-from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Settings
-from epuck_vrep_compat.sim.noise import (
+from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
+from epuck_vrep_compat.epuck.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
-from epuck_vrep_compat.sim.noise_presets import IMU_KEYS, load_noise_file, preset
+from epuck_vrep_compat.epuck.noise_presets import IMU_KEYS, load_noise_file, preset
 
 
 @dataclass

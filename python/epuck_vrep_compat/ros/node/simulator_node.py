@@ -23,7 +23,7 @@ from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty, EmptyResponse
 from tf2_msgs.msg import TFMessage
 
-from epuck_vrep_compat.cell.world import build_simulation
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat.topics import (
     CLOCK_TOPIC, NODE, NODE_NAME, PAUSE_SERVICE, RESET_SERVICE, TF_TOPIC, UNPAUSE_SERVICE)
 from epuck_vrep_compat.paths import PackageNotFound, data_path
@@ -48,7 +48,6 @@ from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
 from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
 from epuck_vrep_compat.sim.control import PAUSED, RUNNING, STOPPED, SimulationControl
-from epuck_vrep_compat.sim.epuck2_sensors import Epuck2Sensors
 from epuck_vrep_compat.srv import StepSimulation, StepSimulationResponse
 from epuck_vrep_compat.vrep.backend import VrepBackend
 
@@ -66,9 +65,11 @@ class SimulatorNode:
         scene = load_scene(params.world)
         profile = PROFILES[params.profile]
         names = params.robot_names
+        config = SimulationConfig(names, params.step_s, params.seed, params.noise,
+                                  params.cmd_timeout_s, params.camera, profile.robot_name,
+                                  params.extras if profile.extras else None, profile.extras)
         try:
-            self.sim = build_simulation(scene, names, params.step_s, params.seed, params.noise,
-                                        params.cmd_timeout_s, params.camera, profile.robot_name)
+            self.sim = build_simulation(scene, config)
         except SceneError as e:
             raise ParamError(f"parameter '~n' ({params.n}) with scene '{params.world}': {e}")
         self._lock = self.sim.lock          # the model's: stepping, services and commands
@@ -85,11 +86,8 @@ class SimulatorNode:
         self.tf = TfFace(profile, self.sim, self._tf_static)
         self.cameras = CameraFace(profile, self.sim, params.camera_mode)
         self.extras = None
-        if profile.extras:                   # the drivers' extra sensors, after the swarm's
-            sensors = Epuck2Sensors(self.sim, params.extras, scene.floor_regions,
-                                    scene.arena.floor_color, readings=profile.extras)
-            self.sim.add_extension(sensors)
-            self.extras = ExtrasFace(profile, self.sim, sensors, params.accel_sign)
+        if self.sim.epuck2 is not None:      # the drivers' extra sensors, after the swarm's
+            self.extras = ExtrasFace(profile, self.sim, self.sim.epuck2, params.accel_sign)
         models = ModelLibrary(models_dir) if models_dir else None
         self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models))
         self.sim.listeners.append(self._on_robots_changed)

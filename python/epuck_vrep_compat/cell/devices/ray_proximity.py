@@ -7,7 +7,7 @@ import numpy as np
 from epuck_vrep_compat import _core
 from epuck_vrep_compat._core import GROUP_ALL
 from epuck_vrep_compat.compat import vrep_codes as vc
-from epuck_vrep_compat.devices.link_collisions import world_poses
+from epuck_vrep_compat.cell.devices.link_collisions import world_poses
 from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, quat_from_rpy
 
 

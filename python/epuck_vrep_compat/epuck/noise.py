@@ -1,7 +1,7 @@
 """Noise configuration: validated values, expanded to the per-robot, per-sensor arrays of the core.
 
-The defaults of these classes are the paper's real robot; ``sim/paper_robot.py`` derives them
-(each number with its unit and source); ``sim/noise_presets.py`` holds the named presets and
+The defaults of these classes are the paper's real robot; ``epuck/paper_robot.py`` derives them
+(each number with its unit and source); ``epuck/noise_presets.py`` holds the named presets and
 the noise file.
 """
 from dataclasses import dataclass, field
@@ -9,7 +9,7 @@ from typing import Dict, Sequence
 
 import numpy as np
 
-from epuck_vrep_compat.sim import paper_robot as real
+from epuck_vrep_compat.epuck import paper_robot as real
 
 IR_COUNT = 8
 

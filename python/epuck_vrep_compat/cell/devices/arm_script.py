@@ -2,7 +2,7 @@
 client commands it."""
 import math
 
-from epuck_vrep_compat.devices.arm_joint import POSITION
+from epuck_vrep_compat.cell.devices.arm_joint import POSITION
 
 
 def scripted_motion(arm, t: float):

@@ -1,6 +1,6 @@
 """The movable joint of an articulated (URDF) robot as a component: V-REP's joint calls
 (position, velocity, effort, targets, force) on one joint of an
-:class:`~epuck_vrep_compat.devices.articulated.ArticulatedRobot`.
+:class:`~epuck_vrep_compat.cell.devices.articulated.ArticulatedRobot`.
 """
 import math
 

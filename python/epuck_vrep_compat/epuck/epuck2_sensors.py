@@ -1,7 +1,7 @@
 """The e-puck2's sensors beyond the e-puck's (its driver's ``dist_sens``, ``mag_field``,
 ``battery``, ``floor``, ``microphone``), as model state read after each step like the swarm's.
 
-A :class:`~epuck_vrep_compat.sim.extension.SimulationExtension`: after every step of the
+A :class:`~epuck_vrep_compat.devices.extension.SimulationExtension`: after every step of the
 e-pucks it fills one row per robot (rows as ``sim.robot_names``):
 
 * ``tof_m`` (N,): the VL53L0X time-of-flight range, ray cast in the C++ core
@@ -18,11 +18,11 @@ e-pucks it fills one row per robot (rows as ``sim.robot_names``):
 Only the readings asked for (``readings``, the profile's extra topics) are computed; the others
 stay empty (the e-puck 1 driver publishes the floor and microphones only).
 
-The magnetometer's noise is counter-based: each draw is a hash of (seed, robot number, frame,
-axis) turned normal by Box–Muller, vectorised over the swarm; so a robot's noise depends on
-nothing but its own number and the frame, the same seed gives the same run, and another robot
+The magnetometer's noise is counter-based: each draw is a hash of (its seed, robot number,
+frame, axis) turned normal by Box–Muller, vectorised over the swarm; so a robot's noise depends
+on nothing but its own number and the frame, the same seed gives the same run, and another robot
 added or removed changes nothing. The time-of-flight noise has its own stream per robot in the
-core.
+core. Both seeds come from the builder, derived from the simulation's by name.
 """
 from dataclasses import dataclass, field
 from typing import Tuple
@@ -30,13 +30,12 @@ from typing import Tuple
 import numpy as np
 
 from epuck_vrep_compat import TofSensorArray
+from epuck_vrep_compat.devices.extension import SimulationExtension
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
-from epuck_vrep_compat.sim.extension import SimulationExtension
 
 # ground sensors in the body frame (x forward, y left), metres: the ground module's three
 # sensors in a row across the front, under the body
 GROUND_SENSORS_M = np.array([[0.030, 0.010], [0.030, 0.0], [0.030, -0.010]])
-_MAG_STREAM = 0x6d6167           # "mag": the magnetometer's noise stream per robot
 READINGS = frozenset(("dist_sens", "mag_field", "battery", "floor", "microphone"))
 
 
@@ -66,7 +65,7 @@ def _mix(x):
 def hashed_normals(seed: int, robot_ids, frame: int, count: int) -> np.ndarray:
     """(N, count) standard normals, each a function of (seed, robot id, frame, column) only."""
     with np.errstate(over="ignore"):
-        base = _mix(np.uint64(seed % 2 ** 64) ^ np.uint64(_MAG_STREAM))
+        base = _mix(np.uint64(seed % 2 ** 64))
         key = _mix(base ^ _mix(np.asarray(robot_ids, dtype=np.uint64) + np.uint64(1)))
         key = _mix(key ^ np.uint64(frame % 2 ** 64))
         cols = np.arange(2 * count, dtype=np.uint64)
@@ -77,12 +76,14 @@ def hashed_normals(seed: int, robot_ids, frame: int, count: int) -> np.ndarray:
 
 
 class Epuck2Sensors(SimulationExtension):
-    """Computes the e-puck2's extra readings of every robot after each step."""
+    """Computes the e-puck2's extra readings of every robot after each step; its noise streams
+    are seeded with ``tof_seed`` and ``mag_seed``."""
 
-    def __init__(self, sim, settings: Epuck2Settings, floor_regions=(),
-                 floor_base_rgb=(0.85, 0.85, 0.8), readings=READINGS):
+    def __init__(self, sim, settings: Epuck2Settings, tof_seed: int, mag_seed: int,
+                 floor_regions=(), floor_base_rgb=(0.85, 0.85, 0.8), readings=READINGS):
         self.sim = sim
         self.settings = settings
+        self.tof_seed, self.mag_seed = int(tof_seed), int(mag_seed)
         self.readings = READINGS & frozenset(readings)
         self._regions = list(floor_regions)
         self._floor_base = np.asarray(floor_base_rgb, dtype=float)
@@ -91,7 +92,7 @@ class Epuck2Sensors(SimulationExtension):
         if "dist_sens" in self.readings:
             self._tof = TofSensorArray(np.asarray(s.tof_mount_m), s.tof_pitch_rad,
                                        stddev_m=s.tof_stddev_m, stddev_rel=s.tof_stddev_rel,
-                                       seed=sim.seed)
+                                       seed=self.tof_seed)
         self._born_s = {}            # robot name -> simulated time it appeared (or reset)
         self.tof_m = np.zeros(0)
         self.mag_tesla = np.zeros((0, 3))
@@ -124,7 +125,7 @@ class Epuck2Sensors(SimulationExtension):
         mag = np.stack((c * bx + sn * by, -sn * bx + c * by, np.full_like(c, bz)), axis=1)
         if noise and s.mag_stddev_tesla > 0.0:
             ids = np.asarray(self.sim.swarm.stream_ids, dtype=np.uint64)
-            mag += s.mag_stddev_tesla * hashed_normals(self.sim.seed, ids, self.sim.frame, 3)
+            mag += s.mag_stddev_tesla * hashed_normals(self.mag_seed, ids, self.sim.frame, 3)
         return mag
 
     def _battery(self, names, now_s):
@@ -147,6 +148,6 @@ class Epuck2Sensors(SimulationExtension):
 
     def reset(self) -> None:
         if self._tof is not None:
-            self._tof.reseed(self.sim.seed)
+            self._tof.reseed(self.tof_seed)
         self._born_s.clear()
         self.step(0.0)

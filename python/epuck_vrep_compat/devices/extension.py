@@ -1,5 +1,7 @@
 """What a :class:`~epuck_vrep_compat.sim.simulation.Simulation` asks of the things that extend
-it (the industrial cell): a narrow interface, so the simulation never names them.
+it (the industrial cell, the e-puck2's sensors): a narrow interface, so the simulation never
+names them. It sits below the robot families (not in ``sim/``) because a family may hold an
+extension while the simulation still holds the e-puck swarm itself (issue 23).
 
 An extension registers its own objects in ``sim.registry`` and ``sim.world`` and gives them
 behaviour; the simulation calls these hooks, in the order the extensions were added, whenever

@@ -18,9 +18,9 @@ import numpy as np
 import pybullet as pb
 
 from epuck_vrep_compat.compat import vrep_codes as vc
-from epuck_vrep_compat.devices.arm_joint import POSITION, VELOCITY, ArmJoint
-from epuck_vrep_compat.devices.link_collisions import Collision, parse_collisions
-from epuck_vrep_compat.devices.mecanum import (
+from epuck_vrep_compat.cell.devices.arm_joint import POSITION, VELOCITY, ArmJoint
+from epuck_vrep_compat.cell.devices.link_collisions import Collision, parse_collisions
+from epuck_vrep_compat.cell.devices.mecanum import (
     MAX_WHEEL_SPEED_M_S, WHEEL_LX_PLUS_LY_M, WHEELS, body_twist, wheel_speeds)
 from epuck_vrep_compat.geometry.transforms import (
     IDENTITY_QUAT, compose, inverse, quat_from_axis_angle, quat_from_yaw, quat_mul, quat_rotate)

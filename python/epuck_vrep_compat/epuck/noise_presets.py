@@ -1,7 +1,7 @@
 """Named noise presets and the noise file that ``fit_noise`` writes and the simulator loads.
 
 Presets (``~noise_preset``):
-- ``real_robot`` (default): the paper's real e-puck (``sim/paper_robot.py``, every number sourced);
+- ``real_robot`` (default): the paper's real e-puck (``epuck/paper_robot.py``, every number sourced);
 - ``vrep``: V-REP's simulated robot of the paper's Table 1: its accelerometer spread (0.0363,
   0.00215, 0.0256 m/s², no bias: its means are 0 and -g), exact proximity sensors ("Sim
   sensor" of Fig. 4), no wheel slip and an exact gyroscope (V-REP's rigid-body dynamics);
@@ -20,8 +20,8 @@ Keys it does not hold keep the preset's value; the node's explicit parameters wi
 import numpy as np
 import yaml
 
-from epuck_vrep_compat.sim import paper_robot as paper
-from epuck_vrep_compat.sim.noise import (IR_COUNT, IrNoise, NoiseConfigError, NoiseSettings,
+from epuck_vrep_compat.epuck import paper_robot as paper
+from epuck_vrep_compat.epuck.noise import (IR_COUNT, IrNoise, NoiseConfigError, NoiseSettings,
                                          per_sensor, triple)
 
 PRESETS = ("real_robot", "vrep", "ideal")

@@ -1,0 +1,57 @@
+"""The one builder: a :class:`Simulation` from a scene and a config, with every extension the
+scene and the config ask for, each seeded from the one seed by name (:mod:`.streams`).
+
+The simulator node, the tests and the benchmarks build every simulation here. In the order
+they step after the e-pucks: the scene's industrial cell (when it has a ``cell:`` section;
+pybullet is loaded only then), then the e-puck2's extra sensors (when the config has their
+settings: a profile with extra topics), which thus see the cell's links where they are.
+"""
+from dataclasses import dataclass
+from typing import Callable, FrozenSet, Optional, Sequence
+
+from epuck_vrep_compat.builder.streams import (
+    CELL_KINECT, CELL_LASER, EPUCK2_MAGNETOMETER, EPUCK2_TOF, stream_seed)
+from epuck_vrep_compat.devices.components import CameraSpec
+from epuck_vrep_compat.epuck.epuck2_sensors import READINGS, Epuck2Sensors, Epuck2Settings
+from epuck_vrep_compat.epuck.noise import NoiseSettings
+from epuck_vrep_compat.scene.scene_file import Scene
+from epuck_vrep_compat.sim.simulation import Simulation
+
+
+@dataclass
+class SimulationConfig:
+    """Everything a simulation is built with besides its scene (the node's parameters); the
+    first seven are :class:`Simulation`'s arguments, under the same names."""
+
+    robot_names: Sequence[str] = ()
+    step_s: float = 0.05
+    seed: int = 0
+    noise: Optional[NoiseSettings] = None           # None: the paper's real robot
+    cmd_timeout_s: float = 1.0
+    camera: Optional[CameraSpec] = None             # None: the e-puck's camera
+    robot_namer: Optional[Callable[[int], str]] = None   # None: V-REP's ePuck<k>
+    epuck2: Optional[Epuck2Settings] = None         # the e-puck2's extra sensors; None: none
+    epuck2_readings: FrozenSet[str] = READINGS      # which of them (a profile's extras)
+
+
+def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulation:
+    """The simulation of ``scene``. Its ``cell`` attribute is the scene's
+    :class:`~epuck_vrep_compat.cell.cell.Cell` (or None), its ``epuck2`` attribute the
+    :class:`~epuck_vrep_compat.epuck.epuck2_sensors.Epuck2Sensors` (or None), each added to the
+    simulation's extensions. SceneError when the scene's robots find no place."""
+    c = config if config is not None else SimulationConfig()
+    sim = Simulation(scene, c.robot_names, c.step_s, c.seed, c.noise, c.cmd_timeout_s, c.camera,
+                     c.robot_namer, extended_sections=("cell",))
+    sim.cell = None
+    if scene.cell is not None:
+        from epuck_vrep_compat.cell.cell import Cell     # pybullet only when a cell is used
+        sim.cell = Cell(sim, scene.cell, stream_seed(c.seed, CELL_LASER),
+                        stream_seed(c.seed, CELL_KINECT))
+        sim.add_extension(sim.cell)
+    sim.epuck2 = None
+    if c.epuck2 is not None:
+        sim.epuck2 = Epuck2Sensors(sim, c.epuck2, stream_seed(c.seed, EPUCK2_TOF),
+                                   stream_seed(c.seed, EPUCK2_MAGNETOMETER), scene.floor_regions,
+                                   scene.arena.floor_color, readings=c.epuck2_readings)
+        sim.add_extension(sim.epuck2)
+    return sim
