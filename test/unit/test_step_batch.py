@@ -169,6 +169,22 @@ def test_a_closed_reader_is_dropped(pair, background):
     assert pub.impl.connections == []
 
 
+def test_a_failure_reported_after_its_topic_was_closed_is_let_go(pair):
+    # rospy's close() sets the topic's connection list to None (a robot removed, shutdown); a
+    # failure the writer reports for one of its connections afterwards must not end the step
+    # loop (it did, in vrep_models: TypeError in rospy's remove_connection)
+    writer, _reader = pair
+    connection = FakeConnection(writer)
+    pub = FakePublisher(FakeImpl(connection))
+    batch = StepBatch(background=False)
+    batch.add_frame(pub, message(0))
+    batch.flush()
+    writer_id = batch._ids[connection][0]
+    pub.impl.closed, pub.impl.connections = True, None
+    batch._apply([(writer_id, 0, True)])              # the writer's report: failed
+    assert batch._ids == {} and connection.done
+
+
 def test_rospys_close_takes_the_connection_out_of_the_writer_first(pair):
     writer, reader = pair
     connection = FakeConnection(writer)

@@ -199,7 +199,7 @@ class StepBatch:
             if failed:                   # rospy drops a failing connection too
                 rospy.logdebug("dropping connection to %s", connection.endpoint_id)
                 self._forget(connection)
-                impl.remove_connection(connection)
+                _remove_connection(impl, connection)
                 connection.close()
 
     def _entry(self, impl, connection):
@@ -212,7 +212,7 @@ class StepBatch:
         sock = connection.socket
         fd = -1 if sock is None else sock.fileno()       # -1: closed meanwhile
         if fd < 0 or connection.done:
-            impl.remove_connection(connection)
+            _remove_connection(impl, connection)
             return None
         writer_id = self._writer.open(fd, own=False)
         _close_through(self._writer, writer_id, connection)
@@ -222,7 +222,7 @@ class StepBatch:
             # rospy closed it between the check and _close_through (its own close, not ours):
             # the descriptor may be reused, so the writer lets it go before anything is queued
             self._forget(connection)
-            impl.remove_connection(connection)
+            _remove_connection(impl, connection)
             return None
         return entry
 
@@ -252,3 +252,11 @@ class StepBatch:
             rospy.logwarn("subscriber %s is not reading: %d batches of messages dropped for it "
                           "so far, lately on %d topic(s) (%s); %.1f MB waiting in all", key,
                           total, len(topics), shown, self._writer.backlog_bytes / 1e6)
+
+
+def _remove_connection(impl, connection):
+    """rospy's ``remove_connection``, unless the topic was closed meanwhile (a robot removed, the
+    node shutting down): rospy's ``close`` sets its connection list to None, and removing from
+    it would raise in the step loop."""
+    if not impl.closed and impl.connections is not None:
+        impl.remove_connection(connection)
