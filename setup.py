@@ -18,6 +18,7 @@ setup(**generate_distutils_setup(
         "epuck_vrep_compat.ros.common",
         "epuck_vrep_compat.ros.transport",
         "epuck_vrep_compat.ros.epuck",
+        "epuck_vrep_compat.ros.epuck.drivers",
         "epuck_vrep_compat.ros.vrep_plugin",
         "epuck_vrep_compat.ros.cell",
         "epuck_vrep_compat.ros.node",

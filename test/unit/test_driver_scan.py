@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.ros.epuck import driver_scan
+from epuck_vrep_compat.ros.epuck.drivers import driver_scan
 
 YAWS = np.deg2rad([-17.2, -45.9, -90.0, -151.5, 151.2, 90.0, 45.8, 17.1])
 

@@ -10,8 +10,8 @@ import pytest
 from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
 from epuck_vrep_compat.epuck.noise import NoiseSettings
-from epuck_vrep_compat.ros.epuck import epuck2_leds
-from epuck_vrep_compat.ros.epuck import extras_messages as build
+from epuck_vrep_compat.ros.epuck.drivers import epuck2_leds
+from epuck_vrep_compat.ros.epuck.drivers import extras_messages as build
 from epuck_vrep_compat.ros.epuck.description import robot_urdf
 from epuck_vrep_compat.ros.epuck.profiles import EPUCK2_DRIVER, PROFILES
 from epuck_vrep_compat.ros.epuck.transforms import robot_child_frames
@@ -125,9 +125,9 @@ def test_laid_out_extra_topics_match_genpy_byte_for_byte():
     import rospy
     from sensor_msgs.msg import Imu
 
-    from epuck_vrep_compat.ros.epuck.extras import _FIELDS
-    from epuck_vrep_compat.ros.epuck.extras_messages import tilt_quat as _tilt_quat
-    from epuck_vrep_compat.ros.epuck.extras_wire import TextMarkerCache, sentinel_batch
+    from epuck_vrep_compat.ros.epuck.drivers.extras import _FIELDS
+    from epuck_vrep_compat.ros.epuck.drivers.extras_messages import tilt_quat as _tilt_quat
+    from epuck_vrep_compat.ros.epuck.drivers.extras_wire import TextMarkerCache, sentinel_batch
     accel = np.array([[0.0, 1.0, 9.7], [-0.5, 0.2, 9.8]])
     gyro = np.array([[0.1, 0.2, 0.3], [0.0, 0.0, -1.5]])
     frames = ["a/base_link", "bb/base_link"]

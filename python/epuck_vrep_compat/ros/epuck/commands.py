@@ -14,7 +14,7 @@ In every convention the core then clamps to the motors' 1000 steps/s, keeping th
 """
 import math
 
-from epuck_vrep_compat.ros.epuck import epuck2_leds
+from epuck_vrep_compat.ros.epuck.drivers import epuck2_leds
 from epuck_vrep_compat.epuck.leds import LED_COUNT
 
 SCALINGS = ("si", "vrep", "epuck_driver")

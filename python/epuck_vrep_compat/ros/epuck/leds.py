@@ -16,7 +16,8 @@ from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.compat.frames import ODOM_FRAME
 from epuck_vrep_compat.compat.topics import NODE_NAMESPACE
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.epuck import commands, epuck2_leds
+from epuck_vrep_compat.ros.epuck import commands
+from epuck_vrep_compat.ros.epuck.drivers import epuck2_leds
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import shape_marker
 from epuck_vrep_compat.scene.epuck_model import led_positions

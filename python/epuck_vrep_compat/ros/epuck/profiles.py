@@ -33,8 +33,8 @@ class TopicProfile(ProfileNames):
     # its own units, and commands that persist until the next one (0 = no watchdog).
     default_cmd_vel_scaling: str = "si"
     default_cmd_timeout_s: float = 0.0
-    # what the driver publishes beyond the shared topics (ros/epuck/extras.py): roles among
-    # imu, dist_sens, mag_field, battery, floor, microphone, motor_speed, rgb_leds
+    # what the driver publishes beyond the shared topics (ros/epuck/drivers/extras.py): roles
+    # among imu, dist_sens, mag_field, battery, floor, microphone, motor_speed, rgb_leds
     extras: Tuple[str, ...] = ()
     microphones: int = 0             # microphone count of the `microphone` marker
     # the camera's default (width, height, mode "rgb" | "gray"): the drivers' cam_width,

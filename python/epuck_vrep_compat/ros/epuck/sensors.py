@@ -16,7 +16,8 @@ from sensor_msgs.msg import Imu, LaserScan, Range
 from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.compat.frames import ODOM_FRAME
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.ros.epuck import commands, driver_scan
+from epuck_vrep_compat.ros.epuck import commands
+from epuck_vrep_compat.ros.epuck.drivers import driver_scan
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher

@@ -30,7 +30,7 @@ from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.description import DescriptionFace
-from epuck_vrep_compat.ros.epuck.extras import ExtrasFace
+from epuck_vrep_compat.ros.epuck.drivers.extras import ExtrasFace
 from epuck_vrep_compat.ros.epuck.leds import LedFace
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace

@@ -15,8 +15,8 @@ from sensor_msgs.msg import BatteryState, Imu, MagneticField, Range
 from visualization_msgs.msg import Marker
 
 from epuck_vrep_compat.compat import epuck_names
-from epuck_vrep_compat.ros.epuck import extras_messages as build
-from epuck_vrep_compat.ros.epuck.extras_wire import TextMarkerCache, sentinel_batch
+from epuck_vrep_compat.ros.epuck.drivers import extras_messages as build
+from epuck_vrep_compat.ros.epuck.drivers.extras_wire import TextMarkerCache, sentinel_batch
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 
