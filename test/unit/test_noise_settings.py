@@ -1,4 +1,4 @@
-"""Noise configuration: validation names the parameter; per-robot, per-sensor values reach the
+"""Noise configuration: validation names the option; per-robot, per-sensor values reach the
 core; the master switch turns every source off."""
 import numpy as np
 import pytest
@@ -15,18 +15,41 @@ def _swarm(n):
     return swarm
 
 
-def test_per_sensor_accepts_scalar_or_eight_and_names_the_parameter():
-    np.testing.assert_array_equal(per_sensor(0.2, "~p"), np.full(8, 0.2))
-    np.testing.assert_array_equal(per_sensor(list(range(8)), "~p"), np.arange(8.0))
+def test_per_sensor_accepts_scalar_or_eight_and_names_the_option():
+    np.testing.assert_array_equal(per_sensor(0.2, "p"), np.full(8, 0.2))
+    np.testing.assert_array_equal(per_sensor(list(range(8)), "p"), np.arange(8.0))
     for bad in ([1, 2, 3], "x", [0.1] * 7 + [float("nan")], True):
-        with pytest.raises(NoiseConfigError, match="~p"):
-            per_sensor(bad, "~p")
-    with pytest.raises(NoiseConfigError, match="~ir_noise/stddev_m"):
-        per_sensor(-0.1, "~ir_noise/stddev_m", 0.0)
-    with pytest.raises(NoiseConfigError, match="~probability"):
-        per_sensor(1.5, "~probability", 0.0, 1.0)
-    with pytest.raises(NoiseConfigError, match="~a"):
-        triple([-1, 0, 0], "~a")
+        with pytest.raises(NoiseConfigError, match="option 'p' must be"):
+            per_sensor(bad, "p")
+    with pytest.raises(NoiseConfigError, match="option 'ir_noise/stddev_m' must be >= 0.0"):
+        per_sensor(-0.1, "ir_noise/stddev_m", 0.0)
+    with pytest.raises(NoiseConfigError, match="option 'probability' must be <= 1.0"):
+        per_sensor(1.5, "probability", 0.0, 1.0)
+    with pytest.raises(NoiseConfigError, match="option 'a' must be >= 0.0"):
+        triple([-1, 0, 0], "a")
+
+
+def test_messages_name_the_option_and_speak_no_ros(tmp_path):
+    """The noise layer is ROS-free: its messages name the option plainly (``option
+    'noise_preset'``), never a private parameter; the node words its own from option and
+    problem."""
+    from epuck_vrep_compat.epuck.noise_presets import load_noise_file, preset
+    path = tmp_path / "noise.yaml"
+    path.write_text("ir_noise: {stddev_m: -1}\n")
+    calls = (lambda: preset("real"), lambda: per_sensor(-1, "ir_noise/mean_m", 0.0),
+             lambda: load_noise_file(str(path), preset("real_robot")),
+             lambda: load_noise_file(str(tmp_path / "missing.yaml"), preset("real_robot")))
+    for call in calls:
+        with pytest.raises(NoiseConfigError) as caught:
+            call()
+        e = caught.value
+        assert str(e) == f"option '{e.option}' {e.problem}"
+        assert "~" not in str(e) and "parameter" not in str(e), str(e)
+    with pytest.raises(NoiseConfigError) as caught:
+        load_noise_file(str(path), preset("real_robot"))
+    assert caught.value.option == "noise_file"
+    assert caught.value.problem == f"({path}): 'ir_noise/stddev_m' must be >= 0.0, got " \
+                                   f"{[-1.0] * 8}"
 
 
 def test_per_robot_override_changes_only_that_robot():
@@ -56,7 +79,7 @@ def test_master_switch_turns_every_source_off():
 
 def test_presets_and_the_noise_file(tmp_path):
     from epuck_vrep_compat.epuck.noise_presets import load_noise_file, preset
-    with pytest.raises(NoiseConfigError, match="~noise_preset"):
+    with pytest.raises(NoiseConfigError, match="option 'noise_preset' must be one of"):
         preset("real")
     path = tmp_path / "noise.yaml"
     path.write_text("ir_noise: {probability: 0.3}\n"

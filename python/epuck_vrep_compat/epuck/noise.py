@@ -15,7 +15,14 @@ IR_COUNT = 8
 
 
 class NoiseConfigError(ValueError):
-    """A noise parameter that cannot be used; the message names it."""
+    """A noise option that cannot be used. ``option`` names it as the noise file and the presets
+    spell it (``ir_noise/stddev_m``, ``noise_preset``, ``noise_file``), ``problem`` says what is
+    wrong with it; the message is ``option '<option>' <problem>``. A layer that takes the option
+    from elsewhere (the node's private parameters) words its own message from the two."""
+
+    def __init__(self, option: str, problem: str):
+        super().__init__(f"option '{option}' {problem}")
+        self.option, self.problem = option, problem
 
 
 @dataclass
@@ -68,22 +75,21 @@ class NoiseSettings:
 
 
 def per_sensor(value, name: str, minimum=None, maximum=None) -> np.ndarray:
-    """A scalar or a list of 8 numbers, validated; ``name`` is the parameter's name."""
+    """A scalar or a list of 8 numbers, validated; ``name`` is the option's name."""
     arr = np.asarray(value, dtype=float) if _numeric(value) else None
     if arr is None or arr.shape not in ((), (IR_COUNT,)):
-        raise NoiseConfigError(f"parameter '{name}' must be a number or a list of {IR_COUNT} "
-                               f"numbers, got {value!r}")
+        raise NoiseConfigError(name, f"must be a number or a list of {IR_COUNT} numbers, "
+                                     f"got {value!r}")
     arr = np.broadcast_to(arr, (IR_COUNT,)).copy()
     _check_range(arr, name, minimum, maximum)
     return arr
 
 
 def triple(value, name: str, minimum=0.0) -> np.ndarray:
-    """A scalar or a list of 3 numbers (x, y, z), validated; ``name`` is the parameter's name."""
+    """A scalar or a list of 3 numbers (x, y, z), validated; ``name`` is the option's name."""
     arr = np.asarray(value, dtype=float) if _numeric(value) else None
     if arr is None or arr.shape not in ((), (3,)):
-        raise NoiseConfigError(f"parameter '{name}' must be a number or a list of 3 numbers, "
-                               f"got {value!r}")
+        raise NoiseConfigError(name, f"must be a number or a list of 3 numbers, got {value!r}")
     arr = np.broadcast_to(arr, (3,)).copy()
     _check_range(arr, name, minimum, None)
     return arr
@@ -96,8 +102,8 @@ def _numeric(value) -> bool:
 
 def _check_range(arr, name, minimum, maximum):
     if not np.all(np.isfinite(arr)):
-        raise NoiseConfigError(f"parameter '{name}' must be finite, got {arr.tolist()}")
+        raise NoiseConfigError(name, f"must be finite, got {arr.tolist()}")
     if minimum is not None and np.any(arr < minimum):
-        raise NoiseConfigError(f"parameter '{name}' must be >= {minimum}, got {arr.tolist()}")
+        raise NoiseConfigError(name, f"must be >= {minimum}, got {arr.tolist()}")
     if maximum is not None and np.any(arr > maximum):
-        raise NoiseConfigError(f"parameter '{name}' must be <= {maximum}, got {arr.tolist()}")
+        raise NoiseConfigError(name, f"must be <= {maximum}, got {arr.tolist()}")

@@ -128,8 +128,8 @@ def _read_noise(robot_names):
         s.enabled = s.enabled and _get("noise", True, bool)
         s.ir = _read_ir("ir_noise/", s.ir)
         for key in IMU_KEYS:
-            name = "~imu_noise/" + key
-            setattr(s, key, triple(rospy.get_param(name, getattr(s, key).tolist()), name,
+            name = "imu_noise/" + key
+            setattr(s, key, triple(rospy.get_param("~" + name, getattr(s, key).tolist()), name,
                                    None if "bias" in key else 0.0))
         robots = rospy.get_param("~robots", {})
         if not isinstance(robots, dict):
@@ -140,7 +140,8 @@ def _read_noise(robot_names):
                                  f"(robots are {', '.join(robot_names[:3])}..)")
             s.ir_per_robot[name] = _read_ir(f"robots/{name}/ir_noise/", s.ir)
     except NoiseConfigError as e:
-        raise ParamError(str(e)) from e
+        # the noise layer names the option; the node's private parameter is that name under ~
+        raise ParamError(f"parameter '~{e.option}' {e.problem}") from e
     s.wheel_slip_stddev = _get("wheel_slip_stddev", s.wheel_slip_stddev, float,
                                lambda v: v >= 0.0, "must be >= 0")
     return s, source
@@ -151,6 +152,6 @@ def _read_ir(prefix: str, base: IrNoise) -> IrNoise:
         return rospy.get_param("~" + prefix + key, default.tolist())
     return IrNoise(
         probability=per_sensor(value("probability", base.probability),
-                               f"~{prefix}probability", 0.0, 1.0),
-        mean_m=per_sensor(value("mean_m", base.mean_m), f"~{prefix}mean_m"),
-        stddev_m=per_sensor(value("stddev_m", base.stddev_m), f"~{prefix}stddev_m", 0.0))
+                               f"{prefix}probability", 0.0, 1.0),
+        mean_m=per_sensor(value("mean_m", base.mean_m), f"{prefix}mean_m"),
+        stddev_m=per_sensor(value("stddev_m", base.stddev_m), f"{prefix}stddev_m", 0.0))
