@@ -22,7 +22,9 @@ import yaml
 from epuck_vrep_compat.experiment import isolation, launch_files, metrics, spec as spec_mod
 
 LOG_TAIL_CHARS = 2000
-DIED = re.compile(r"\[([^\]]+)\] process has died \[pid \d+, exit code (-?\d+)")
+# roslaunch colours the line: "\x1b[31m[NAME] process has died [pid P, exit code C, ...":
+# the name holds no bracket (else it would start at the colour code's)
+DIED = re.compile(r"\[([^\[\]]+)\] process has died \[pid \d+, exit code (-?\d+)")
 PORT_ATTEMPTS = 3
 KEEP_RUNS = "EVC_KEEP_RUNS"       # set (to anything) on the workers: run folders are kept
 
@@ -67,7 +69,8 @@ def _launch(task, run_dir):
             env["ROS_PACKAGE_PATH"] = launch_files.package_path(task.package_path, env)
         job = {"command": ["roslaunch", "--disable-title",
                            "-p", str(port), os.path.join(run_dir, "run.launch")],
-               "env": env, "timeout_s": task.timeout_s}
+               "env": env, "timeout_s": task.timeout_s,
+               "parent": os.getpid()}     # the worker: gone already -> orphaned
         with open(os.path.join(run_dir, "shepherd_in.json"), "w") as f:
             json.dump(job, f)
         shepherd = subprocess.Popen([sys.executable, "-m", "epuck_vrep_compat.experiment.shepherd",

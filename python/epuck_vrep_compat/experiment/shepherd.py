@@ -83,7 +83,9 @@ def main(argv=None):
         job = json.load(f)
     libc = ctypes.CDLL(None, use_errno=True)
     libc.prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
-    parent = os.getppid()
+    # the worker that started it, as it said (not getppid() now: a worker killed while
+    # this process was still starting would leave it a parent already changed)
+    parent = job.get("parent") or os.getppid()
 
     def stop(_sig, _frame):
         raise Stop()
