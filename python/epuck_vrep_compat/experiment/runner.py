@@ -25,6 +25,7 @@ LOG_TAIL_CHARS = 2000
 # roslaunch colours the line: "\x1b[31m[NAME] process has died [pid P, exit code C, ...":
 # the name holds no bracket (else it would start at the colour code's)
 DIED = re.compile(r"\[([^\[\]]+)\] process has died \[pid \d+, exit code (-?\d+)")
+REQUIRED_DIED = re.compile(r"REQUIRED process \[([^\[\]]+)\] has died")
 PORT_ATTEMPTS = 3
 KEEP_RUNS = "EVC_KEEP_RUNS"       # set (to anything) on the workers: run folders are kept
 
@@ -103,7 +104,9 @@ def _judge(task, run_dir, outcome):
         return {**out, "status": "failed", "error": "stopped before its end",
                 "log_tail": _tail(run_dir)}
     if status.get("status") != "done":
-        why = status.get("message") or "the run never started (no status from the probe)"
+        required = [n for n in REQUIRED_DIED.findall(log) if not n.startswith("experiment_probe")]
+        why = (f"{required[0]} (required) died, which ended the run" if required else
+               status.get("message") or "the run never started (no status from the probe)")
         return {**out, "status": "failed", "error": why, "log_tail": _tail(run_dir)}
     if died:
         name, code = died[0]
