@@ -32,13 +32,26 @@ def value_order(v):
     return (4, 0.0, repr(v))
 
 
-def label(v) -> str:
-    """A parameter value as a short label (a file by its name, not its folder)."""
+def label(v, among=()) -> str:
+    """A parameter value as a short label; paths (files, launch files) by what tells them apart
+    ``among`` the values of the same parameter: their common leading folders and trailing
+    parts left out (``students/alice/launch/avoid.launch`` and ``reference/launch/avoid.launch``
+    become ``students/alice`` and ``reference``)."""
     if isinstance(v, float):
         return f"{v:g}"
     text = str(v)
-    return os.path.basename(text) if "/" in text and not text.startswith("/") or \
-        text.startswith("/") and os.path.splitext(text)[1] else text
+    paths = [str(a).split("/") for a in among if isinstance(a, str) and "/" in a]
+    if "/" not in text or len(paths) < 2 or len(paths) != len(among):
+        return os.path.basename(text) if "/" in text else text
+    head = 0
+    while all(len(p) > head + 1 and p[head] == paths[0][head] for p in paths):
+        head += 1
+    tail = 0
+    while all(len(p) > head + tail + 1 and p[-1 - tail] == paths[0][-1 - tail] for p in paths):
+        tail += 1
+    parts = text.split("/")
+    kept = "/".join(parts[head:len(parts) - tail])
+    return os.path.splitext(kept)[0] if tail == 0 else kept
 
 
 def _legend(ax):
@@ -61,7 +74,7 @@ def _positions(values):
         span = (max(x.values()) - min(x.values())) if len(x) > 1 else 1.0
         return x, None, None, span / max(1, len(x) - 1)
     x = {value_order(v): float(i) for i, v in enumerate(distinct)}
-    return x, list(x.values()), [label(v) for v in distinct], 1.0
+    return x, list(x.values()), [label(v, distinct) for v in distinct], 1.0
 
 
 def _save(fig, path):
@@ -93,7 +106,8 @@ def plot_against(path, summary, metric, param, series_params=(), note=""):
         mean = np.array([r["mean"] for r in members], dtype=float)
         low = np.nan_to_num(mean - np.array([r["ci95_low"] for r in members], dtype=float))
         high = np.nan_to_num(np.array([r["ci95_high"] for r in members], dtype=float) - mean)
-        text = ", ".join(f"{q}={label(v)}" for q, v in zip(series_params, values))
+        text = ", ".join(f"{q}={label(v, _distinct(rows, q))}"
+                         for q, v in zip(series_params, values))
         # a line between categories would suggest an order they do not have
         ax.errorbar(xs, mean, yerr=[low, high], fmt="o" if ticks else "o-", capsize=3,
                     label=text or None)
@@ -123,7 +137,7 @@ def plot_seeds(path, rows, metric, cell_params):
     for values, members in cells:
         seeds = [float(r.get("seed", np.nan)) for r in members]
         y = [as_number(r.get(f"metric.{metric}")) for r in members]
-        text = ", ".join(f"{q}={label(v)}" for q, v in zip(cell_params, values))
+        text = ", ".join(f"{q}={label(v, _distinct(ok, q))}" for q, v in zip(cell_params, values))
         ax.plot(seeds, y, "o", alpha=0.7, label=text or "runs")
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_xlabel("seed")
@@ -134,6 +148,11 @@ def plot_seeds(path, rows, metric, cell_params):
     if len(cells) > 1:
         _legend(ax)
     return _save(fig, path)
+
+
+def _distinct(rows, param):
+    return list({value_order(r.get(f"param.{param}")): r.get(f"param.{param}")
+                 for r in rows}.values())
 
 
 def _no_values(ax):
