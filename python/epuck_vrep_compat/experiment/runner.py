@@ -70,8 +70,8 @@ def _launch(task, run_dir):
             env["ROS_PACKAGE_PATH"] = launch_files.package_path(task.package_path, env)
         job = {"command": ["roslaunch", "--disable-title",
                            "-p", str(port), os.path.join(run_dir, "run.launch")],
-               "env": env, "timeout_s": task.timeout_s,
-               "parent": os.getpid()}     # the worker: gone already -> orphaned
+               "env": env, "timeout_s": task.timeout_s, "parent": os.getpid(),
+               "done_file": os.path.splitext(task.recording_path)[0] + ".status.json"}     # the worker: gone already -> orphaned
         with open(os.path.join(run_dir, "shepherd_in.json"), "w") as f:
             json.dump(job, f)
         shepherd = subprocess.Popen([sys.executable, "-m", "epuck_vrep_compat.experiment.shepherd",

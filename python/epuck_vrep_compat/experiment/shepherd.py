@@ -58,9 +58,15 @@ def _reap():
 
 
 def end_everything(launch, run_marker):
-    """roslaunch first (SIGINT: it shuts its nodes down in order), then whatever is left."""
+    """SIGINT to roslaunch and every process of the run at once (each node shuts down as on
+    Ctrl-C, bags close; all together, not one after the other as roslaunch would), then
+    SIGTERM and SIGKILL to whatever is left."""
     if launch.poll() is None:
-        launch.send_signal(signal.SIGINT)
+        for pid in [launch.pid] + _descendants():
+            try:
+                os.kill(pid, signal.SIGINT)
+            except OSError:
+                pass
         try:
             launch.wait(20.0)
         except subprocess.TimeoutExpired:
@@ -99,6 +105,9 @@ def main(argv=None):
     deadline = time.monotonic() + job["timeout_s"]
     try:
         while launch.poll() is None:
+            if os.path.exists(job.get("done_file", "")):
+                out["done"] = True           # the probe has written the run: end it now
+                break
             if time.monotonic() > deadline:
                 out["timed_out"] = True
                 break
