@@ -70,8 +70,9 @@ def run(spec, store, scheduler=None, workers=None, stream=sys.stderr):
     call. Rows reach ``store`` as they finish."""
     store.save_spec(spec)
     marker = uuid.uuid4().hex
-    tasks = [t for t in plan.tasks(spec, marker) if t.key not in store.done]
-    total = len(plan.tasks(spec))
+    every = plan.tasks(spec, marker)
+    tasks = [t for t in every if t.key not in store.done]
+    total = len(every)
     progress = Progress(total, total - len(tasks), stream)
     if not tasks:
         progress.close()
