@@ -52,6 +52,19 @@ class Collector:
         with self._lock:
             return self.messages[-1] if self.messages else None
 
+    def wait_for(self, predicate, timeout_s=30.0, what="the expected value"):
+        """The latest message once ``predicate(latest)`` holds (waiting for the first message
+        too: a test must not assume that a topic arrived before another); AssertionError
+        naming the last message after ``timeout_s``."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            last = self.latest()
+            if last is not None and predicate(last):
+                return last
+            time.sleep(0.02)
+        raise AssertionError(f"{self._sub.resolved_name} never showed {what} within "
+                             f"{timeout_s} s; last: {self.latest()}")
+
     def clear(self):
         with self._lock:
             self.messages = []
