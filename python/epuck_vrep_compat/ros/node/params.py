@@ -30,6 +30,7 @@ class SimParams:
     profile: str = "vrep"
     seed: int = 0
     rtf: float = 1.0
+    vrep_realtime: bool = False         # V-REP's real-time switch (state bit 2); V-REP's default
     step_s: float = 0.05
     paused: bool = False
     cmd_vel_scaling: str = "vrep"       # the profile's own (profiles.TopicProfile defaults)
@@ -62,6 +63,7 @@ def read_params(default_world: str) -> SimParams:
     p.n = len(p.robot_names)
     p.seed = _get("seed", 0, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")
     p.rtf = _get("rtf", 1.0, float, lambda v: v >= 0.0, "must be >= 0 (0 = as fast as possible)")
+    p.vrep_realtime = _get("vrep_realtime", False, bool)
     p.step_s = _get("step_s", 0.05, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
     profile = PROFILES[p.profile]

@@ -89,7 +89,7 @@ class SimulatorNode:
         if self.sim.epuck2 is not None:      # the drivers' extra sensors, after the swarm's
             self.extras = ExtrasFace(profile, self.sim, self.sim.epuck2, params.accel_sign)
         models = ModelLibrary(models_dir) if models_dir else None
-        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models))
+        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.vrep_realtime, models))
         self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
         if self.sim.cell is not None:
