@@ -94,7 +94,11 @@ class SimulatorNode:
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
-            self.cell = CellFace(self.sim, self._tf_static)
+            watchdog = (params.speed_scale_timeout_s, params.speed_scale_robots or None)
+            try:
+                self.cell = CellFace(self.sim, self._tf_static, watchdog)
+            except ValueError as e:
+                raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
         self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]
