@@ -82,18 +82,18 @@ void bind_batched(py::module_& m) {
            "Steps every world once by dt_s with wheel commands (N, 2) = (left, right) rad/s "
            "(float64, C order avoids a copy). ValueError, before anything moves, for a bad "
            "dt_s, shape or a non-finite command.")
-      .def_property_readonly("poses", &BatchedWorlds::poses, "(N, 3) x, y, yaw ground truth.")
-      .def_property_readonly("velocities", &BatchedWorlds::velocities,
+      .def_property_readonly("poses", &BatchedWorlds::poses, py::return_value_policy::copy, "(N, 3) x, y, yaw ground truth.")
+      .def_property_readonly("velocities", &BatchedWorlds::velocities, py::return_value_policy::copy,
                              "(N, 3) vx, vy (world), yaw rate.")
-      .def_property_readonly("wheel_speeds", &BatchedWorlds::wheel_speeds,
+      .def_property_readonly("wheel_speeds", &BatchedWorlds::wheel_speeds, py::return_value_policy::copy,
                              "(N, 2) applied wheel speeds, rad/s.")
-      .def_property_readonly("odometry", &BatchedWorlds::odometry, "(N, 5) x, y, yaw, v, w.")
-      .def_property_readonly("ranges", &BatchedWorlds::ranges, "(N, K) noisy IR readings, m.")
-      .def_property_readonly("ranges_clean", &BatchedWorlds::ranges_clean,
+      .def_property_readonly("odometry", &BatchedWorlds::odometry, py::return_value_policy::copy, "(N, 5) x, y, yaw, v, w.")
+      .def_property_readonly("ranges", &BatchedWorlds::ranges, py::return_value_policy::copy, "(N, K) noisy IR readings, m.")
+      .def_property_readonly("ranges_clean", &BatchedWorlds::ranges_clean, py::return_value_policy::copy,
                              "(N, K) clean IR readings, m (max_range_m for nothing).")
-      .def_property_readonly("accel", &BatchedWorlds::accel, "(N, 3) specific force, m/s^2.")
-      .def_property_readonly("gyro", &BatchedWorlds::gyro, "(N, 3) angular velocity, rad/s.")
-      .def_property_readonly("in_contact", &BatchedWorlds::in_contact,
+      .def_property_readonly("accel", &BatchedWorlds::accel, py::return_value_policy::copy, "(N, 3) specific force, m/s^2.")
+      .def_property_readonly("gyro", &BatchedWorlds::gyro, py::return_value_policy::copy, "(N, 3) angular velocity, rad/s.")
+      .def_property_readonly("in_contact", &BatchedWorlds::in_contact, py::return_value_policy::copy,
                              "(N,) bool: the robot touched an obstacle or another robot during "
                              "the last step.")
       .def("collision_world", &BatchedWorlds::collision_world, "world"_a,

@@ -87,7 +87,9 @@ int BatchedWorlds::add_obstacle(int world, const Vec3& center_m, double yaw_rad,
   World& w = world_at(world);
   if (!std::isfinite(yaw_rad)) throw std::invalid_argument("yaw must be finite");
   const int handle = static_cast<int>(w.obstacles.size());
-  const Pose pose{center_m, Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()))};
+  // Normalised here and again by the world, as the binding hands the simulator's arena in
+  // (sim/arena.py), so that both hold the very same bits.
+  const Pose pose{center_m, Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ())).normalized()};
   if (box) {
     w.collision->add_box(handle, size, pose, rgb, kGroupStatic);
   } else {
