@@ -39,18 +39,19 @@ constexpr double kMaxImuStddev = 1000.0;
 /// Largest relative wheel-speed noise SD accepted.
 constexpr double kMaxSlipStddev = 1.0;
 
-/// Where EpuckSwarm::write_outputs copies the state: views of caller-owned buffers, one row per
-/// robot in each (a batch of swarms hands in its rows of shared arrays).
+/// Where EpuckSwarm::write_outputs copies the state: for each output, the first of size()
+/// consecutive rows of a caller-owned row-major buffer (a batch of swarms hands in its rows of
+/// shared arrays), each row as wide as that output.
 struct SwarmOutputRows {
-  Eigen::Ref<RowMatrixXd> poses;         ///< (N, 3), as poses()
-  Eigen::Ref<RowMatrixXd> velocities;    ///< (N, 3), as velocities()
-  Eigen::Ref<RowMatrixXd> wheel_speeds;  ///< (N, 2), as wheel_speeds()
-  Eigen::Ref<RowMatrixXd> odometry;      ///< (N, 5), as odometry()
-  Eigen::Ref<RowMatrixXd> ranges;        ///< (N, K), as ranges()
-  Eigen::Ref<RowMatrixXd> ranges_clean;  ///< (N, K), as ranges_clean()
-  Eigen::Ref<RowMatrixXd> accel;         ///< (N, 3), as accel()
-  Eigen::Ref<RowMatrixXd> gyro;          ///< (N, 3), as gyro()
-  Eigen::Ref<VectorXb> in_contact;       ///< (N,), as in_contact()
+  double* poses;         ///< 3 a row, as poses()
+  double* velocities;    ///< 3, as velocities()
+  double* wheel_speeds;  ///< 2, as wheel_speeds()
+  double* odometry;      ///< 5, as odometry()
+  double* ranges;        ///< K, as ranges()
+  double* ranges_clean;  ///< K, as ranges_clean()
+  double* accel;         ///< 3, as accel()
+  double* gyro;          ///< 3, as gyro()
+  bool* in_contact;      ///< 1, as in_contact()
 };
 
 /// The swarm; it adds its robots' bodies to a CollisionWorld that must outlive it.
@@ -135,9 +136,9 @@ class EpuckSwarm {
   /// during the last step's contact resolution (body_contacts.hpp), false before any step.
   VectorXb in_contact() const;
   /// Copies poses, velocities, wheel speeds, odometry, ranges, clean ranges, accelerometer,
-  /// gyroscope and contacts into @p out, each view with size() rows and its output's columns
-  /// (std::invalid_argument otherwise). Allocates nothing.
-  void write_outputs(SwarmOutputRows& out) const;
+  /// gyroscope and contacts into the rows @p out points at, in one pass over the robots.
+  /// Allocates nothing.
+  void write_outputs(const SwarmOutputRows& out) const;
   /// (N,) body handles.
   VectorXi handles() const;
   /// (N,) noise stream ids (see the file comment).
@@ -189,9 +190,7 @@ class EpuckSwarm {
   RowMatrixXd per_robot(int columns, Get get) const;
   template <typename Get>
   RowMatrixXd per_sensor_vector(Get get) const;
-  template <typename Get>
-  void fill_rows(Eigen::Ref<RowMatrixXd> out, Get get) const;
-  void fill_ranges(Eigen::Ref<RowMatrixXd> out, double SensorOutput::*reading) const;
+  RowMatrixXd sensor_values(double SensorOutput::*reading) const;
 
   CollisionWorld& world_;
   EpuckModel model_;

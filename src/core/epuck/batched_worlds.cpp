@@ -208,11 +208,11 @@ void BatchedWorlds::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel
 // Copies world b's state into its rows of the buffers.
 void BatchedWorlds::write_rows(int world) const {
   const Eigen::Index row = first_row(world);
-  SwarmOutputRows rows{poses_.middleRows(row, robots_),        velocities_.middleRows(row, robots_),
-                       wheel_speeds_.middleRows(row, robots_), odometry_.middleRows(row, robots_),
-                       ranges_.middleRows(row, robots_),       ranges_clean_.middleRows(row, robots_),
-                       accel_.middleRows(row, robots_),        gyro_.middleRows(row, robots_),
-                       in_contact_.segment(row, robots_)};
+  const SwarmOutputRows rows{poses_.row(row).data(),        velocities_.row(row).data(),
+                             wheel_speeds_.row(row).data(), odometry_.row(row).data(),
+                             ranges_.row(row).data(),       ranges_clean_.row(row).data(),
+                             accel_.row(row).data(),        gyro_.row(row).data(),
+                             in_contact_.data() + row};
   worlds_[world].swarm->write_outputs(rows);
   worlds_[world].outputs_stale = false;
 }

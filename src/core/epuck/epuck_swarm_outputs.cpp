@@ -2,7 +2,6 @@
 // output's row is written by one function below, whether into a new matrix or into a caller's
 // buffer (write_outputs).
 #include "epuck_vrep_compat/epuck/epuck_swarm.hpp"
-#include "epuck/shape_checks.hpp"
 
 namespace evc {
 namespace {
@@ -27,21 +26,18 @@ const auto kGyroRow = [](const auto& r) { return r.gyro.transpose(); };
 }  // namespace
 
 template <typename Get>
-void EpuckSwarm::fill_rows(Eigen::Ref<RowMatrixXd> out, Get get) const {
-  for (int i = 0; i < size(); ++i) out.row(i) = get(robots_[i]);
-}
-
-template <typename Get>
 RowMatrixXd EpuckSwarm::per_robot(int columns, Get get) const {
   RowMatrixXd out(size(), columns);
-  fill_rows(out, get);
+  for (int i = 0; i < size(); ++i) out.row(i) = get(robots_[i]);
   return out;
 }
 
-void EpuckSwarm::fill_ranges(Eigen::Ref<RowMatrixXd> out, double SensorOutput::*reading) const {
+RowMatrixXd EpuckSwarm::sensor_values(double SensorOutput::*reading) const {
+  RowMatrixXd out(size(), sensor_count());
   for (int i = 0; i < size(); ++i) {
     for (int k = 0; k < sensor_count(); ++k) out(i, k) = robots_[i].sensors[k].*reading;
   }
+  return out;
 }
 
 template <typename Get>
@@ -70,17 +66,9 @@ RowMatrixXd EpuckSwarm::wheel_angles() const {
 
 RowMatrixXd EpuckSwarm::odometry() const { return per_robot(5, kOdometryRow); }
 
-RowMatrixXd EpuckSwarm::ranges_clean() const {
-  RowMatrixXd out(size(), sensor_count());
-  fill_ranges(out, &SensorOutput::clean_m);
-  return out;
-}
+RowMatrixXd EpuckSwarm::ranges_clean() const { return sensor_values(&SensorOutput::clean_m); }
 
-RowMatrixXd EpuckSwarm::ranges() const {
-  RowMatrixXd out(size(), sensor_count());
-  fill_ranges(out, &SensorOutput::noisy_m);
-  return out;
-}
+RowMatrixXd EpuckSwarm::ranges() const { return sensor_values(&SensorOutput::noisy_m); }
 
 RowMatrixXi EpuckSwarm::detected_handles() const {
   RowMatrixXi out(size(), sensor_count());
@@ -108,26 +96,22 @@ VectorXb EpuckSwarm::in_contact() const {
   return out;
 }
 
-void EpuckSwarm::write_outputs(SwarmOutputRows& out) const {
-  const Eigen::Index n = size();
-  check_shape(out.poses, n, 3, "poses");
-  check_shape(out.velocities, n, 3, "velocities");
-  check_shape(out.wheel_speeds, n, 2, "wheel_speeds");
-  check_shape(out.odometry, n, 5, "odometry");
-  check_shape(out.ranges, n, sensor_count(), "ranges");
-  check_shape(out.ranges_clean, n, sensor_count(), "ranges_clean");
-  check_shape(out.accel, n, 3, "accel");
-  check_shape(out.gyro, n, 3, "gyro");
-  check_length(out.in_contact.size(), n, "in_contact");
-  fill_rows(out.poses, kPoseRow);
-  fill_rows(out.velocities, kVelocityRow);
-  fill_rows(out.wheel_speeds, kWheelSpeedRow);
-  fill_rows(out.odometry, kOdometryRow);
-  fill_ranges(out.ranges, &SensorOutput::noisy_m);
-  fill_ranges(out.ranges_clean, &SensorOutput::clean_m);
-  fill_rows(out.accel, kAccelRow);
-  fill_rows(out.gyro, kGyroRow);
-  for (int i = 0; i < size(); ++i) out.in_contact[i] = robots_[i].in_contact;
+void EpuckSwarm::write_outputs(const SwarmOutputRows& out) const {
+  const int k_count = sensor_count();
+  for (int i = 0; i < size(); ++i) {
+    const Robot& r = robots_[i];
+    Eigen::Map<Eigen::RowVector3d>(out.poses + 3 * i) = kPoseRow(r);
+    Eigen::Map<Eigen::RowVector3d>(out.velocities + 3 * i) = kVelocityRow(r);
+    Eigen::Map<Eigen::RowVector2d>(out.wheel_speeds + 2 * i) = kWheelSpeedRow(r);
+    Eigen::Map<Eigen::Matrix<double, 1, 5>>(out.odometry + 5 * i) = kOdometryRow(r);
+    for (int k = 0; k < k_count; ++k) {
+      out.ranges[i * k_count + k] = r.sensors[k].noisy_m;
+      out.ranges_clean[i * k_count + k] = r.sensors[k].clean_m;
+    }
+    Eigen::Map<Eigen::RowVector3d>(out.accel + 3 * i) = kAccelRow(r);
+    Eigen::Map<Eigen::RowVector3d>(out.gyro + 3 * i) = kGyroRow(r);
+    out.in_contact[i] = r.in_contact;
+  }
 }
 
 VectorXi EpuckSwarm::handles() const {
