@@ -112,9 +112,10 @@ def build_ours(worlds, robots, seed):
 
 def run_ours(worlds, robots, steps, seed):
     """(a) the step calls and (b) the loop reading the observations, one JSON record."""
+    from epuck_vrep_compat import _core  # noqa: F401 (loaded before memory is counted)
+    commands = command_table(worlds, robots, seed)
     before = rss_mb()
     batched = build_ours(worlds, robots, seed)
-    commands = command_table(worlds, robots, seed)
     batched.step(STEP_S, commands[0])
     growth = rss_mb() - before
     for i in range(WARMUP_STEPS):
@@ -139,6 +140,7 @@ def run_pyenki(worlds, robots, steps, seed):
     wheel speeds set per robot from Python (b'), one JSON record."""
     import enki_peer  # imports pyenki
     import pyenki
+    commands = command_table(worlds, robots, seed) * (WHEEL_RADIUS_M * enki_peer.CM_PER_M)
     before = rss_mb()
     built = []
     radius, height, _offset = CYLINDER_M
@@ -153,7 +155,6 @@ def run_pyenki(worlds, robots, steps, seed):
             obstacles.append(cylinder)   # pyenki's World does not own what it holds
         built.append((world, robots_of_world, obstacles))
     every_robot = [robot for _world, group, _obstacles in built for robot in group]
-    commands = command_table(worlds, robots, seed) * (WHEEL_RADIUS_M * cm)
     for world, _group, _obstacles in built:
         world.step(STEP_S)
     growth = rss_mb() - before
@@ -217,9 +218,12 @@ def machine():
     with open("/proc/meminfo") as f:
         mem_gb = int(f.readline().split()[1]) / 1024 ** 2
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    enki = subprocess.run(["dpkg-query", "-W", "-f", "${Version}", "python3-enki2"],
+                          stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout
     return (f"{model}, {os.cpu_count()} CPUs, {mem_gb:.1f} GB, Linux {platform.release()}, "
-            f"Python {platform.python_version()}, numpy {np.__version__}; pinned to CPU "
-            f"{sorted(os.sched_getaffinity(0))}; load average at start {load}")
+            f"Python {platform.python_version()}, numpy {np.__version__}, python3-enki2 "
+            f"{enki or '?'}; pinned to CPU {sorted(os.sched_getaffinity(0))}; load average at "
+            f"start {load}")
 
 
 def _rate(value):
@@ -265,6 +269,8 @@ def parse_args(argv):
                         help="robot-steps timed per configuration for pyenki")
     parser.add_argument("--peers", default="ours,pyenki,enki_cpp",
                         help="comma-separated subset of ours, pyenki, enki_cpp")
+    parser.add_argument("--configs", default=",".join(f"{b}x{r}" for b, r in CONFIGS),
+                        help="comma-separated BxR configurations (worlds x robots)")
     parser.add_argument("--cpu", type=int, default=min(os.sched_getaffinity(0)),
                         help="the one CPU every measurement runs on")
     parser.add_argument("--seed", type=int, default=1)
@@ -284,7 +290,8 @@ def main(argv=None):
     os.sched_setaffinity(0, {args.cpu})      # the children inherit it
     print(f"Machine: {machine()}", flush=True)
     records = []
-    for worlds, robots in CONFIGS:
+    configs = [tuple(int(v) for v in c.split("x")) for c in args.configs.split(",")]
+    for worlds, robots in configs:
         for peer in args.peers.split(","):
             budget = args.peer_robot_steps if peer == "pyenki" else args.robot_steps
             steps = max(10, round(budget / (worlds * robots)))
