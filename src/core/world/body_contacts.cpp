@@ -357,7 +357,9 @@ class ContactFinder {
 }  // namespace
 
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
-                            const ContactSettings& settings, ContactCache* cache) {
+                            const ContactSettings& settings, ContactCache* cache,
+                            std::vector<char>* touched) {
+  if (touched != nullptr) touched->assign(bodies.size(), 0);
   ContactCache::State this_call;
   ContactFinder finder(world, bodies, cache != nullptr ? *cache->state_ : this_call);
   std::vector<char> active(bodies.size(), 1);
@@ -371,7 +373,9 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
       if (!active[i]) continue;
       Eigen::Vector2d move = Eigen::Vector2d::Zero();
       finder.contacts(i, touches);
+      if (touched != nullptr && !touches.empty()) (*touched)[i] = 1;
       for (const Touch& touch : touches) {
+        if (touched != nullptr && touch.other >= 0) (*touched)[touch.other] = 1;
         const Contact& contact = touch.contact;
         deepest = std::max(deepest, contact.depth_m);
         const bool shared = touch.other >= 0;
