@@ -130,3 +130,13 @@ def test_braitenberg_avoider_outscores_driving_straight():
         scores[name] = (total.mean(), contacts.sum())
     assert scores["braitenberg"][0] > scores["straight"][0]
     assert scores["braitenberg"][1] < scores["straight"][1]
+
+
+def test_world_seeds_option_gives_worlds_the_same_arena():
+    envs = gym.make_vec("EpuckObstacleAvoidance-v0", num_envs=3, noise="ideal")
+    obs, info = envs.reset(options={"world_seeds": [7, 8, 7]})
+    assert np.array_equal(info["pose"][0], info["pose"][2])
+    assert not np.array_equal(info["pose"][0], info["pose"][1])
+    assert np.array_equal(obs[0], obs[2])
+    with pytest.raises(ValueError):
+        envs.reset(options={"world_seeds": [1]})

@@ -18,17 +18,12 @@ import rostest
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, Range
 
-from epuck_vrep_compat.compat import epuck_names
-from epuck_vrep_compat.geometry.transforms import yaw_of
 from epuck_vrep_compat.learn import tasks
 from epuck_vrep_compat.learn.worlds import Worlds
 from epuck_vrep_compat.policy import neighbours, observation
-from epuck_vrep_compat.scene.scene_file import load_scene
 
-from sim_test_helpers import PKG, RosoutGuard
+from sim_test_helpers import PKG, learn_test_setup, pose_of
 
-PROFILES = {p.name: p for p in (epuck_names.VREP, epuck_names.EPUCK_DRIVER,
-                                epuck_names.EPUCK2_DRIVER)}
 LAYOUT = observation.ObservationLayout(imu=True, neighbours=1, neighbour_range_m=0.5)
 SETTLED_S = 0.5            # read a step after this much simulated time
 
@@ -63,17 +58,9 @@ class StepReadings:
         raise AssertionError("no step with every topic within the time limit")
 
 
-def pose_of(msg):
-    p, q = msg.pose.pose.position, msg.pose.pose.orientation
-    return p.x, p.y, float(yaw_of((q.x, q.y, q.z, q.w)))
-
-
 class LearnParity(unittest.TestCase):
     def test_environment_and_topics_give_the_same_observation(self):
-        rospy.init_node("test_learn_parity")
-        guard = RosoutGuard()
-        names = PROFILES[rospy.get_param("~profile")]
-        scene = load_scene(rospy.get_param("~world"))
+        guard, names, scene = learn_test_setup("test_learn_parity")
         robots = [names.robot_name(0), names.robot_name(1)]
         got = StepReadings(names, robots).complete()
 

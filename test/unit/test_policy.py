@@ -112,3 +112,14 @@ def test_twist_for_wheels_inverts_wheel_speeds(scaling):
         pytest.approx((0.0, 0.0))
     assert cmd_vel.wheel_speeds("epuck_driver", *cmd_vel.twist_for_wheels(
         "epuck_driver", 300 * step, -299 * step)) == pytest.approx((300 * step, -299 * step))
+
+
+def test_blocks_equal_block_robot_by_robot():
+    poses = np.column_stack([RNG.uniform(-0.5, 0.5, (12, 2)), RNG.uniform(-3, 3, 12)])
+    for count in (1, 3, 5):
+        batched = nb.blocks(poses, count, 0.6, groups=3)
+        for i in range(12):
+            g = i // 4
+            others = [j for j in range(4 * g, 4 * g + 4) if j != i]
+            assert batched[i] == pytest.approx(nb.block(poses[i], poses[others, :2], count, 0.6),
+                                               abs=1e-12)

@@ -83,25 +83,27 @@ class Task:
         return cylinders, poses
 
     def rewards(self, wheels_rad_s, max_wheel_rad_s, observations, poses, contact):
-        """(R,) rewards of one world's robots after a step: wheels (R, 2) rad/s, observations
-        (R, D), poses (R, 3), contact (R,) bool."""
+        """(B, R) rewards of every world's robots after a step: wheels (B, R, 2) rad/s,
+        observations (B, R, D), poses (B, R, 3), contact (B, R) bool."""
         if self.name == "obstacle_avoidance":
-            return floreano_fitness(wheels_rad_s, max_wheel_rad_s, observations[:, :8])
-        distances = np.hypot(*(poses[:, None, :2] - poses[None, :, :2]).transpose(2, 0, 1))
+            return floreano_fitness(wheels_rad_s, max_wheel_rad_s, observations[..., :8])
+        xy = poses[..., :2]
+        distances = np.linalg.norm(xy[:, :, None, :] - xy[:, None, :, :], axis=-1)
         if self.name == "aggregation":
-            mean = distances.sum(axis=1) / max(self.robots - 1, 1)
+            mean = distances.sum(axis=-1) / max(self.robots - 1, 1)
             return 1.0 - np.minimum(1.0, mean / ARENA_SIDE_M)
-        d = distances[:, 0]
+        d = distances[..., 0]
         return (np.exp(-np.square((d - FOLLOW_DISTANCE_M) / FOLLOW_WIDTH_M))
                 - contact.astype(float))
 
 
 def floreano_fitness(wheels_rad_s, max_wheel_rad_s, ir_activation) -> np.ndarray:
-    """Floreano and Mondada's (1994) ``V (1 - sqrt(dv)) (1 - i)`` per robot (rows)."""
+    """Floreano and Mondada's (1994) ``V (1 - sqrt(dv)) (1 - i)`` per robot: wheels
+    (..., 2) rad/s, IR activations (..., 8) -> (...)."""
     w = np.clip(np.asarray(wheels_rad_s, float) / max_wheel_rad_s, -1.0, 1.0)
-    v = 0.5 * np.abs(w[:, 0] + w[:, 1])
-    dv = 0.5 * np.abs(w[:, 0] - w[:, 1])
-    i = np.max(ir_activation, axis=1)
+    v = 0.5 * np.abs(w[..., 0] + w[..., 1])
+    dv = 0.5 * np.abs(w[..., 0] - w[..., 1])
+    i = np.max(ir_activation, axis=-1)
     return v * (1.0 - np.sqrt(dv)) * (1.0 - i)
 
 

@@ -4,8 +4,9 @@ one learning robot, stepped in one core call (``gymnasium.make_vec(id, num_envs=
 Spaces, rewards and ``info`` keys are the single-robot environment's, batched (``info``: arrays
 of B rows). Autoreset: Gymnasium's default ``NEXT_STEP``: the step after a world's episode
 ended resets that world (its action is ignored, its reward 0) and returns its first
-observation. ``reset(seed=s)`` seeds world b with ``s + b``; ``render()`` gives one RGB array
-per world.
+observation. ``reset(seed=s)`` seeds world b with ``s + b``, ``reset(options={"world_seeds":
+[s0, s1, ...]})`` each world with its own (the same arena for several worlds: CMA-ES scores its
+candidates on common arenas); ``render()`` gives one RGB array per world.
 """
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
@@ -36,8 +37,14 @@ class EpuckVectorEnv(VectorEnv):
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
+        world_seeds = (options or {}).get("world_seeds")
+        if world_seeds is not None and len(world_seeds) != self.num_envs:
+            raise ValueError(f"options['world_seeds'] needs {self.num_envs} seeds, got "
+                             f"{len(world_seeds)}")
         for b in range(self.num_envs):
-            if seed is not None:
+            if world_seeds is not None:
+                self.worlds.seed(b, int(world_seeds[b]))
+            elif seed is not None:
                 self.worlds.seed(b, seed + b)
             self.worlds.place(b)
         self.worlds.step(np.zeros((self.num_envs, len(self.worlds.agents), 2)),

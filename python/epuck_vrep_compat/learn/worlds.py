@@ -112,8 +112,7 @@ class Worlds:
         obs = self.obs.reshape(B, R, -1)
         poses = core.poses.reshape(B, R, 3)
         contact = np.asarray(core.in_contact, dtype=bool).reshape(B, R)
-        return np.stack([self.task.rewards(wheels[b], self.max_wheel, obs[b], poses[b],
-                                           contact[b]) for b in range(B)])
+        return self.task.rewards(wheels, self.max_wheel, obs, poses, contact)
 
     def agent_obs(self) -> np.ndarray:
         """(B, A, D) float32: the agents' observations."""

@@ -6,7 +6,7 @@ builder the learning environments use (:mod:`epuck_vrep_compat.policy`): a polic
     rosrun epuck_vrep_compat policy_node _policy:=my_pkg.my_module:act _robot:=ePuck1
 
 Parameters: ``~weights`` (a perceptron weights file, default the shipped avoider
-``config/policies/avoider.json``) or ``~policy`` (``pkg.module:function``: ``function(obs)``
+``config/avoider.json``) or ``~policy`` (``pkg.module:function``: ``function(obs)``
 returns the two wheel speeds in [-1, 1]; its layout from ``~imu``, ``~neighbours``,
 ``~neighbour_range_m``), ``~profile`` (vrep, epuck_driver, epuck2_driver), ``~robot`` (the
 profile's first robot), ``~cmd_vel_scaling`` (the profile's default, the simulator's),
@@ -34,9 +34,8 @@ from epuck_vrep_compat.policy import observation
 from epuck_vrep_compat.policy.controller import Perceptron
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 
-PROFILES = {p.name: p for p in (epuck_names.VREP, epuck_names.EPUCK_DRIVER,
-                                epuck_names.EPUCK2_DRIVER)}
-SHIPPED_WEIGHTS = os.path.join("config", "policies", "avoider.json")
+PROFILES = epuck_names.PROFILE_NAMES
+SHIPPED_WEIGHTS = os.path.join("config", "avoider.json")
 
 
 def load_function(spec: str):
