@@ -126,3 +126,20 @@ def unpause_when_subscribed(subscribers, timeout_s=60.0):
         time.sleep(0.05)
     rospy.wait_for_service("/vrep/unpause", timeout=timeout_s)
     rospy.ServiceProxy("/vrep/unpause", Empty)()
+
+
+def pose_of(odometry):
+    """(x, y, yaw) of a nav_msgs/Odometry (ground truth)."""
+    from epuck_vrep_compat.geometry.transforms import yaw_of
+    p, q = odometry.pose.pose.position, odometry.pose.pose.orientation
+    return p.x, p.y, float(yaw_of((q.x, q.y, q.z, q.w)))
+
+
+def learn_test_setup(node_name):
+    """The learning rostests' start: the node, a /rosout guard, the profile's names
+    (``~profile``) and the scene (``~world``)."""
+    from epuck_vrep_compat.compat.epuck_names import PROFILE_NAMES
+    from epuck_vrep_compat.scene.scene_file import load_scene
+    rospy.init_node(node_name)
+    return (RosoutGuard(), PROFILE_NAMES[rospy.get_param("~profile")],
+            load_scene(rospy.get_param("~world")))
