@@ -47,6 +47,9 @@ class Worlds:
         self.cylinders = [[] for _ in range(worlds)]
         self.elapsed = np.zeros(worlds, dtype=np.int64)
         self.obs = np.zeros((worlds * task.robots, task.layout.size))
+        # this step's ground truth, read from the core once a step (each read is a copy)
+        self.poses = np.zeros((worlds * task.robots, 3))
+        self.contact = np.zeros(worlds * task.robots, dtype=bool)
         self._painter = None
 
     @property
@@ -93,6 +96,8 @@ class Worlds:
             wheels[resting] = 0.0
         self.core.step(self.dt_s, (wheels * self.max_wheel).reshape(B * R, 2))
         self.elapsed += ~resting
+        self.poses = self.core.poses
+        self.contact = np.asarray(self.core.in_contact, dtype=bool)
         self.obs = self.observe()
         return self.rewards()
 
@@ -101,7 +106,7 @@ class Worlds:
         layout, core = self.layout, self.core
         neighbours = None
         if layout.neighbours:
-            neighbours = nb.blocks(core.poses, layout.neighbours, layout.neighbour_range_m,
+            neighbours = nb.blocks(self.poses, layout.neighbours, layout.neighbour_range_m,
                                    groups=self.count)
         return observation.build(layout, core.ranges, core.accel, core.gyro, neighbours)
 
@@ -110,8 +115,8 @@ class Worlds:
         core = self.core
         wheels = core.wheel_speeds.reshape(B, R, 2)
         obs = self.obs.reshape(B, R, -1)
-        poses = core.poses.reshape(B, R, 3)
-        contact = np.asarray(core.in_contact, dtype=bool).reshape(B, R)
+        poses = self.poses.reshape(B, R, 3)
+        contact = self.contact.reshape(B, R)
         return self.task.rewards(wheels, self.max_wheel, obs, poses, contact)
 
     def agent_obs(self) -> np.ndarray:
@@ -122,13 +127,13 @@ class Worlds:
         """The ``info`` of one agent: ``in_contact``, ``pose`` (ground truth x, y, yaw),
         ``elapsed_steps`` of its world's episode."""
         row = world * self.robots + self.agents[agent]
-        return {"in_contact": bool(self.core.in_contact[row]),
-                "pose": self.core.poses[row].copy(), "elapsed_steps": int(self.elapsed[world])}
+        return {"in_contact": bool(self.contact[row]),
+                "pose": self.poses[row].copy(), "elapsed_steps": int(self.elapsed[world])}
 
     def draw(self, world: int) -> np.ndarray:
         """The RGB array (256, 256, 3) of one world."""
         if self._painter is None:
             self._painter = ArenaPainter([s.yaw_rad for s in self.model.sensors])
         rows = slice(world * self.robots, (world + 1) * self.robots)
-        return self._painter.draw(self.cylinders[world], self.core.poses[rows], self.agents,
+        return self._painter.draw(self.cylinders[world], self.poses[rows], self.agents,
                                   self.obs[rows, :8])
