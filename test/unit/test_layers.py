@@ -24,10 +24,9 @@ LAYERS = (
     ("_core", "paths", "msg", "srv"),   # the compiled core, data paths, generated messages
     ("compat", "geometry"),             # names and codes once; pure geometry: no ROS, no core
     ("scene",),                         # scene and model files, registry, placement
-    ("devices",),                       # components and extensions' interfaces, every family's
-    ("epuck",),                         # the e-puck family (below sim: Simulation holds the swarm)
-    ("sim",),                           # the simulation and its extension interface
-    ("cell",),                          # the industrial cell and its devices, an extension
+    ("devices",),                       # the components' interface, every family's
+    ("sim",),                           # the world (no robot family) and its extension interface
+    ("epuck", "cell"),                  # the robot families, extensions: never import each other
     ("builder",),                       # one simulation from a scene and a config, every extension
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros",),                           # the simulator node and its faces

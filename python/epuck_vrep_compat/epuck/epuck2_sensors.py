@@ -1,7 +1,7 @@
 """The e-puck2's sensors beyond the e-puck's (its driver's ``dist_sens``, ``mag_field``,
 ``battery``, ``floor``, ``microphone``), as model state read after each step like the swarm's.
 
-A :class:`~epuck_vrep_compat.devices.extension.SimulationExtension`: after every step of the
+A :class:`~epuck_vrep_compat.sim.extension.SimulationExtension`: after every step of the
 e-pucks (:class:`~epuck_vrep_compat.epuck.swarm.EpuckRobots`) it fills one row per robot (rows
 as their ``robot_names``):
 
@@ -31,7 +31,7 @@ from typing import Tuple
 import numpy as np
 
 from epuck_vrep_compat import TofSensorArray
-from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
 
 # ground sensors in the body frame (x forward, y left), metres: the ground module's three

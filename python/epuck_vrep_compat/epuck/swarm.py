@@ -18,7 +18,7 @@ import numpy as np
 from epuck_vrep_compat._core import EpuckSwarm
 from epuck_vrep_compat.compat.epuck_names import VREP
 from epuck_vrep_compat.devices.components import CameraSpec
-from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.epuck.components import attach_components
 from epuck_vrep_compat.epuck.leds import RobotLeds
 from epuck_vrep_compat.epuck.noise import NoiseSettings

@@ -5,7 +5,7 @@ ROS-free. The ROS faces read its state after each step and write commands into i
 step -> state arrays -> faces, one way per step).
 
 The simulation knows no robot family: every robot (the e-pucks, the industrial cell) comes in
-as an extension (:class:`~epuck_vrep_compat.devices.extension.SimulationExtension`), added by
+as an extension (:class:`~epuck_vrep_compat.sim.extension.SimulationExtension`), added by
 the builder, called in the order it was added and never named. Objects can be added and removed
 between steps, by a caller that holds the simulation lock (:attr:`Simulation.lock`: the core is
 not thread-safe); afterwards every listener is called (:meth:`Simulation.objects_changed`), so
@@ -18,7 +18,7 @@ from typing import Callable, List
 import numpy as np
 
 from epuck_vrep_compat._core import CollisionWorld
-from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.scene import registry as reg
 from epuck_vrep_compat.scene.scene_file import Scene
 from epuck_vrep_compat.sim.arena import build_arena

@@ -1,6 +1,8 @@
 """What a :class:`~epuck_vrep_compat.sim.simulation.Simulation` asks of the things that extend
 it (the e-pucks, the industrial cell, the e-puck2's sensors): a narrow interface, so the
-simulation never names them.
+simulation never names them. Each robot family's package holds its extensions
+(:mod:`epuck_vrep_compat.epuck.swarm`, :mod:`epuck_vrep_compat.cell.cell`); the builder adds
+them.
 
 An extension registers its own objects in ``sim.registry`` and ``sim.world`` and gives them
 behaviour; the simulation calls these hooks, in the order the extensions were added, whenever
