@@ -3,9 +3,10 @@ simCopyPasteObjects, simRemoveModel and simRemoveObject, on our scene.
 
 A part of :class:`~epuck_vrep_compat.vrep.backend.VrepBackend`: it reads the simulation and
 ``models`` (a :class:`~epuck_vrep_compat.scene.model_files.ModelLibrary`, or None) and resolves
-objects through the objects part. What can be added is a whole robot (a model file, or a
-copy of a robot's base object); what can be removed is a whole robot (through its base object)
-or a static scene object. A new robot is named as V-REP names a pasted model (the scene's
+objects through the objects part. What can be added is a whole robot (a model file, loaded by
+the simulation's extension for its kind of robot, or a copy of an e-puck's base object, by
+``sim.epucks``); what can be removed is a whole robot (through its base object) or a static
+scene object. A new robot is named as V-REP names a pasted model (the scene's
 largest suffix plus one) and placed where it touches nothing. Failures raise
 :class:`VrepError` and change nothing.
 """
