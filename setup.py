@@ -8,6 +8,8 @@ setup(**generate_distutils_setup(
         "epuck_vrep_compat.builder",
         "epuck_vrep_compat.compat",
         "epuck_vrep_compat.geometry",
+        "epuck_vrep_compat.policy",
+        "epuck_vrep_compat.learn",
         "epuck_vrep_compat.cell",
         "epuck_vrep_compat.cell.devices",
         "epuck_vrep_compat.devices",

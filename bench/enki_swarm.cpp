@@ -4,17 +4,21 @@
 // Debian's Python binding, which always builds one), each avoiding obstacles with the same
 // Braitenberg rule as bench/enki_peer.py, in C++ (Enki calls controlStep for every robot in
 // World::step). The robots start on a grid, one per --cell-m square cell, in a walled square
-// arena; headings come from a seeded generator.
+// arena; headings come from a seeded generator. With --worlds B, B such worlds are stepped one
+// after the other (bench/learn_bench.py's batched task); with --cylinders C, each world also
+// holds C static cylinders placed as learn_bench.py places them (cylinder_centres below).
 //
 // Timed: World::step(step) with Enki's single physics pass, after --warmup-seconds of
 // simulated time. "startup_s" runs from the start of main to the end of the first step
 // (building the world and its robots, then one step), the figure a user waits for.
 //
 // Usage: enki_swarm [--robots N] [--step S] [--sim-seconds T] [--warmup-seconds W]
-//                   [--cell-m C] [--seed K]
+//                   [--cell-m C] [--seed K] [--worlds B] [--cylinders C]
 // Prints one JSON line to stdout:
 //   {"peer":"enki_cpp","robots":N,"step_s":S,"sim_s":..,"wall_s":..,"rtf":..,
-//    "startup_s":..,"peak_rss_mb":..,"cell_m":C,"seed":K}
+//    "startup_s":..,"peak_rss_mb":..,"cell_m":C,"seed":K,"worlds":B,"cylinders":C,
+//    "rss_growth_mb":..}   (rss_growth_mb: resident memory added by building and first stepping
+//    the worlds)
 // Enki works in centimetres; this program speaks metres and converts once, at the boundary.
 
 #include <enki/PhysicalEngine.h>
@@ -54,7 +58,15 @@ struct Options {
   double warmup_s = 1.0;
   double cell_m = 0.30;
   unsigned long seed = 1;
+  int worlds = 1;
+  int cylinders = 0;
 };
+
+// Static cylinders of the batched task, one world's: cylinder k stands 10 cm from the centre of
+// cell (7 k mod N) along the cell's diagonal, up-right for even k, down-left for odd k.
+constexpr double kCylinderRadiusM = 0.02;
+constexpr double kCylinderHeightM = 0.08;
+constexpr double kCylinderOffsetM = 0.10;
 
 double clampSpeed(double speed_m_s) {
   return std::max(-kMaxSpeedMS, std::min(kMaxSpeedMS, speed_m_s));
@@ -86,7 +98,7 @@ class BraitenbergEPuck : public Enki::EPuck {
 [[noreturn]] void usage(const char* program) {
   std::fprintf(stderr,
                "usage: %s [--robots N] [--step S] [--sim-seconds T] [--warmup-seconds W] "
-               "[--cell-m C] [--seed K]\n",
+               "[--cell-m C] [--seed K] [--worlds B] [--cylinders C]\n",
                program);
   std::exit(2);
 }
@@ -103,9 +115,11 @@ Options parseOptions(int argc, char** argv) {
     else if (flag == "--warmup-seconds") options.warmup_s = std::atof(value);
     else if (flag == "--cell-m") options.cell_m = std::atof(value);
     else if (flag == "--seed") options.seed = std::strtoul(value, nullptr, 10);
+    else if (flag == "--worlds") options.worlds = std::atoi(value);
+    else if (flag == "--cylinders") options.cylinders = std::atoi(value);
     else usage(argv[0]);
   }
-  if (options.robots < 1 || !(options.step_s > 0.0) || !(options.sim_s > 0.0) ||
+  if (options.robots < 1 || options.worlds < 1 || options.cylinders < 0 || !(options.step_s > 0.0) || !(options.sim_s > 0.0) ||
       options.warmup_s < 0.0 || !(options.cell_m > 0.0)) {
     usage(argv[0]);
   }
@@ -129,6 +143,18 @@ std::unique_ptr<Enki::World> buildWorld(const Options& options) {
     robot->angle = heading(headings);
     world->addObject(robot);
   }
+  for (int k = 0; k < options.cylinders; ++k) {
+    const int cell = static_cast<int>((7L * k) % options.robots);
+    const double sign = k % 2 == 0 ? 1.0 : -1.0;
+    auto* cylinder = new Enki::PhysicalObject();
+    cylinder->setCylindric(kCylinderRadiusM * kCmPerM, kCylinderHeightM * kCmPerM, -1.0);
+    cylinder->pos = Enki::Point(
+        (kArenaMarginM / 2 + (cell % per_row + 0.5) * options.cell_m + sign * kCylinderOffsetM) *
+            kCmPerM,
+        (kArenaMarginM / 2 + (cell / per_row + 0.5) * options.cell_m + sign * kCylinderOffsetM) *
+            kCmPerM);
+    world->addObject(cylinder);
+  }
   return world;
 }
 
@@ -138,14 +164,16 @@ long stepsFor(double sim_s, double step_s) {
 
 /// Peak resident memory of this process (VmHWM, MB). Not getrusage's ru_maxrss, which keeps
 /// the peak of the process that forked us (a Python benchmark driver) across exec.
-double peakRssMb() {
+double statusMb(const char* field) {
   std::ifstream status("/proc/self/status");
   std::string line;
   while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+    if (line.rfind(field, 0) == 0) return std::atof(line.c_str() + std::strlen(field)) / 1024.0;
   }
   return -1.0;
 }
+
+double peakRssMb() { return statusMb("VmHWM:"); }
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -155,22 +183,33 @@ double secondsSince(Clock::time_point start) {
 
 int main(int argc, char** argv) {
   const Clock::time_point process_start = Clock::now();
-  const Options options = parseOptions(argc, argv);
-  std::unique_ptr<Enki::World> world = buildWorld(options);
-  world->step(options.step_s);
-  const double startup_s = secondsSince(process_start);
-  for (long i = 1; i < stepsFor(options.warmup_s, options.step_s); ++i) {
-    world->step(options.step_s);
+  Options options = parseOptions(argc, argv);
+  const double rss_before_mb = statusMb("VmRSS:");
+  std::vector<std::unique_ptr<Enki::World>> worlds;
+  const unsigned long first_seed = options.seed;
+  for (int b = 0; b < options.worlds; ++b) {
+    options.seed = first_seed + static_cast<unsigned long>(b);
+    worlds.push_back(buildWorld(options));
   }
+  options.seed = first_seed;
+  const auto step_all = [&worlds, &options]() {
+    for (auto& world : worlds) world->step(options.step_s);
+  };
+  step_all();
+  const double startup_s = secondsSince(process_start);
+  const double rss_growth_mb = statusMb("VmRSS:") - rss_before_mb;
+  for (long i = 1; i < stepsFor(options.warmup_s, options.step_s); ++i) step_all();
   const long steps = stepsFor(options.sim_s, options.step_s);
   const Clock::time_point start = Clock::now();
-  for (long i = 0; i < steps; ++i) world->step(options.step_s);
+  for (long i = 0; i < steps; ++i) step_all();
   const double wall_s = secondsSince(start);
   const double timed_sim_s = steps * options.step_s;
   std::printf(
       "{\"peer\":\"enki_cpp\",\"robots\":%d,\"step_s\":%g,\"sim_s\":%.9g,\"wall_s\":%.6f,"
-      "\"rtf\":%.6f,\"startup_s\":%.6f,\"peak_rss_mb\":%.1f,\"cell_m\":%g,\"seed\":%lu}\n",
+      "\"rtf\":%.6f,\"startup_s\":%.6f,\"peak_rss_mb\":%.1f,\"cell_m\":%g,\"seed\":%lu,"
+      "\"worlds\":%d,\"cylinders\":%d,\"rss_growth_mb\":%.3f}\n",
       options.robots, options.step_s, timed_sim_s, wall_s, timed_sim_s / wall_s, startup_s,
-      peakRssMb(), options.cell_m, options.seed);
+      peakRssMb(), options.cell_m, options.seed, options.worlds, options.cylinders,
+      rss_growth_mb);
   return 0;
 }

@@ -7,6 +7,7 @@ import numpy.typing as npt
 ArrayLike = Union[npt.ArrayLike, Sequence[float]]
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int32]
+BoolArray = npt.NDArray[np.bool_]
 
 GROUP_STATIC: int  # 1: walls, fixed obstacles
 GROUP_ROBOT: int  # 2: robot bodies
@@ -236,6 +237,9 @@ class EpuckSwarm:
     def set_slip_noise(self, stddev: ArrayLike) -> None:
         """(N,)."""
     def reseed(self, seed: int) -> None: ...
+    def reset(self, seed: int) -> None:
+        """Starts over where the robots stand: frame 0, noise streams from seed, odometry at
+        the pose; velocities, wheels and readings as when the robots were added."""
     def step(self, dt_s: float, wheel_cmd: ArrayLike) -> None:
         """wheel_cmd (N, 2) rad/s; non-finite commands stop that robot. Releases the GIL."""
     def set_pose(self, index: int, x: float, y: float, yaw: float) -> None: ...
@@ -277,6 +281,9 @@ class EpuckSwarm:
     @property
     def gyro(self) -> FloatArray:
         """(N, 3) rad/s."""
+    @property
+    def in_contact(self) -> BoolArray:
+        """(N,) touched an obstacle or another robot during the last step."""
     @property
     def frame(self) -> int: ...
     @property
@@ -465,3 +472,94 @@ class TofSensorArray:
     ) -> npt.NDArray[np.float64]:
         """Ranges (N,) m of N robots at planar poses (N, 3) x, y, yaw. Releases the GIL."""
     def reseed(self, seed: int) -> None: ...
+
+class BatchedWorlds:
+    """B independent worlds of R e-pucks each (own obstacles, robots, noise streams, seed),
+    stepped in one call without the GIL. Every per-robot array has N = B * R rows, row
+    ``world * R + robot``. World b gives exactly the arrays of a standalone EpuckSwarm (seed
+    seeds[b], robot r under handle ROBOT_HANDLE_BASE + r, added in order) on a CollisionWorld
+    holding the same obstacles under handles 0, 1, ... in the order they were added. The
+    output properties return fresh copies, filled in C++ by ``step``."""
+
+    ROBOT_HANDLE_BASE: int  # 2**30: robot r's body handle in each world is this + r
+
+    def __init__(
+        self, model: EpuckModel, worlds: int, robots: int, seeds: Sequence[int]
+    ) -> None:
+        """Robots start on a 10 cm grid about the origin, heading 0, every noise off."""
+    @property
+    def worlds(self) -> int: ...
+    @property
+    def robots(self) -> int: ...
+    @property
+    def size(self) -> int:
+        """N = worlds * robots."""
+    @property
+    def sensor_count(self) -> int: ...
+    @property
+    def frames(self) -> npt.NDArray[np.int64]:
+        """(B,) steps of each world since it was built or reset."""
+    def add_box(
+        self,
+        world: int,
+        center: ArrayLike,
+        half_extents: ArrayLike,
+        yaw: float = 0.0,
+        rgb: ArrayLike = ...,
+    ) -> int:
+        """A static box (group STATIC, as the arena's walls); returns its handle."""
+    def add_cylinder(
+        self, world: int, center: ArrayLike, radius: float, height: float, rgb: ArrayLike = ...
+    ) -> int:
+        """A static upright cylinder centred at center; returns its handle."""
+    def clear_obstacles(self, world: int) -> None:
+        """Removes a world's obstacles; handles start from 0 again."""
+    def set_pose(self, world: int, robot: int, x: float, y: float, yaw: float) -> None:
+        """Teleports a robot, odometry too, and clears its velocity history."""
+    def reset_world(self, world: int, seed: int) -> None:
+        """Frame 0, noise streams from seed, velocities and readings cleared; poses,
+        obstacles and noise settings stay."""
+    def set_ir_noise(
+        self, probability: ArrayLike, mean_m: ArrayLike, stddev_m: ArrayLike
+    ) -> None:
+        """Each (N, K); all or nothing."""
+    def set_imu_noise(self, accel_stddev: ArrayLike, gyro_stddev: ArrayLike) -> None:
+        """Each (N, 3)."""
+    def set_imu_bias(self, accel_bias: ArrayLike, gyro_bias: ArrayLike) -> None:
+        """Each (N, 3)."""
+    def set_slip_noise(self, stddev: ArrayLike) -> None:
+        """(N,)."""
+    def step(self, dt_s: float, wheel_cmd: ArrayLike) -> None:
+        """Every world once; wheel_cmd (N, 2) rad/s, finite (ValueError before anything moves
+        otherwise). Releases the GIL."""
+    @property
+    def poses(self) -> FloatArray:
+        """(N, 3) x, y, yaw."""
+    @property
+    def velocities(self) -> FloatArray:
+        """(N, 3) vx, vy (world), yaw rate."""
+    @property
+    def wheel_speeds(self) -> FloatArray:
+        """(N, 2) rad/s after clamp and slip."""
+    @property
+    def odometry(self) -> FloatArray:
+        """(N, 5) x, y, yaw, v, w."""
+    @property
+    def ranges(self) -> FloatArray:
+        """(N, K) m, with noise."""
+    @property
+    def ranges_clean(self) -> FloatArray:
+        """(N, K) m; max_range_m where nothing is detected."""
+    @property
+    def accel(self) -> FloatArray:
+        """(N, 3) body-frame specific force, m/s^2."""
+    @property
+    def gyro(self) -> FloatArray:
+        """(N, 3) rad/s."""
+    @property
+    def in_contact(self) -> BoolArray:
+        """(N,) touched an obstacle or another robot during the last step."""
+    def collision_world(self, world: int) -> CollisionWorld:
+        """World b's collision world, for queries and rendering (do not change it)."""
+    def swarm(self, world: int) -> EpuckSwarm:
+        """World b's swarm, for its other outputs (do not step or change it)."""

@@ -306,6 +306,12 @@ void bind_swarm(py::module_& m) {
           "(N, K, 3) surface normals at the detected points, sensor frame.")
       .def_property_readonly("accel", &EpuckSwarm::accel, "(N, 3) specific force, m/s^2.")
       .def_property_readonly("gyro", &EpuckSwarm::gyro, "(N, 3) angular velocity, rad/s.")
+      .def("reset", &EpuckSwarm::reset, "seed"_a,
+           "Starts over where the robots stand: frame 0, noise streams from seed, odometry at "
+           "the pose, velocities, wheels and readings as when the robots were added.")
+      .def_property_readonly("in_contact", &EpuckSwarm::in_contact,
+                             "(N,) bool: the robot touched an obstacle or another robot during "
+                             "the last step.")
       .def_property_readonly("frame", &EpuckSwarm::frame, "Steps taken.")
       .def_property_readonly("handles", &EpuckSwarm::handles, "(N,) int32 body handles.")
       .def_property_readonly("stream_ids", &EpuckSwarm::stream_ids,
@@ -317,6 +323,7 @@ void bind_distance(py::module_& m);  // distance_bindings.cpp
 void bind_cell(py::module_& m);  // cell_bindings.cpp
 void bind_wire(py::module_& m);  // wire_bindings.cpp
 void bind_epuck2(py::module_& m);  // epuck2_bindings.cpp
+void bind_batched(py::module_& m);  // batched_bindings.cpp
 }  // namespace evc
 
 PYBIND11_MODULE(_core, m) {
@@ -344,4 +351,5 @@ PYBIND11_MODULE(_core, m) {
   evc::bind_cell(m);
   evc::bind_wire(m);
   evc::bind_epuck2(m);
+  evc::bind_batched(m);
 }

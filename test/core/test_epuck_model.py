@@ -50,3 +50,13 @@ def test_sensor_position_must_be_three_finite_values():
         _core.ConeSensor(position=(0.0, 0.0))
     with pytest.raises(ValueError):
         _core.ConeSensor().position = (0.0, math.nan, 0.0)
+
+
+def test_the_clients_copy_of_the_geometry_is_the_models():
+    """compat/cmd_vel.py's wheel radius, separation and top speed (for clients, which load no
+    core) are the core model's defaults."""
+    from epuck_vrep_compat.compat import cmd_vel
+    model = _core.EpuckModel()
+    assert cmd_vel.WHEEL_RADIUS_M == model.wheel_radius_m
+    assert cmd_vel.WHEEL_SEPARATION_M == model.wheel_separation_m
+    assert cmd_vel.MAX_WHEEL_SPEED_RAD_S == pytest.approx(model.max_wheel_speed_rad_s, abs=1e-8)

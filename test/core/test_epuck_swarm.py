@@ -71,6 +71,34 @@ def test_reseed_reproduces_a_run():
     assert np.array_equal(a.poses, b.poses) and np.array_equal(a.ranges, b.ranges)
 
 
+def test_reset_repeats_the_run_after_the_robots_were_added():
+    swarm = arena_swarm(0.25, 3)
+    n = swarm.size
+    swarm.set_slip_noise(np.full(n, 0.05))
+    swarm.set_ir_noise(*(np.full((n, 8), v) for v in (0.5, 0.002, 0.001)))
+    swarm.set_imu_noise(np.full((n, 3), 0.05), np.full((n, 3), 0.01))
+    names = ("poses", "ranges", "accel", "gyro", "odometry", "velocities", "wheel_angles",
+             "in_contact")
+    commands = np.random.default_rng(5).uniform(-7.0, 7.0, (200, n, 2))
+
+    def run():
+        recorded = []
+        for command in commands:
+            swarm.step(DT, command)
+            recorded.append([getattr(swarm, name) for name in names])
+        return recorded
+
+    first = run()
+    for i, (_, x, y, yaw) in enumerate(ROBOTS):
+        swarm.set_pose(i, x, y, yaw)
+    swarm.reset(3)
+    assert swarm.frame == 0 and not swarm.in_contact.any()
+    assert not swarm.wheel_angles.any() and not swarm.velocities.any()
+    for step, (a, b) in enumerate(zip(first, run())):
+        assert all(np.array_equal(x, y) for x, y in zip(a, b)), step
+    assert any(record[-1].any() for record in first)   # contacts took part
+
+
 def test_a_robots_noise_does_not_depend_on_the_others(world):
     add_arena(world, 0.1)
 

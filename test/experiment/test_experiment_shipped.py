@@ -57,3 +57,19 @@ def test_obstacle_avoidance_one_seed(tmp_path):
         assert len(chosen) == 6, h.describe(rows)
         return sum(r["metric.collisions"] for r in chosen)
     assert collisions("carol_avoider") > collisions("reference"), h.describe(rows)
+
+
+def test_learned_avoidance_one_seed(tmp_path):
+    """6 runs (wander and the evolved weights through policy_node x 3 arenas, 1 seed): all ok;
+    the evolved controller collides less than wander over the arenas and drives farther."""
+    rows = run_shipped(tmp_path, "learned_avoidance.yaml", 1)
+    assert len(rows) == 6, h.describe(rows)
+
+    def total(launch, metric):
+        chosen = [r for r in rows if r["param.controller.launch"].endswith(launch)]
+        assert len(chosen) == 3, h.describe(rows)
+        return sum(r[f"metric.{metric}"] for r in chosen)
+    assert total("evolved.launch", "collisions") < total("avoid.launch", "collisions"), \
+        h.describe(rows)
+    assert total("evolved.launch", "distance_driven_m") > \
+        total("avoid.launch", "distance_driven_m"), h.describe(rows)

@@ -52,6 +52,19 @@ class Collector:
         with self._lock:
             return self.messages[-1] if self.messages else None
 
+    def wait_for(self, predicate, timeout_s=30.0, what="the expected value"):
+        """The latest message once ``predicate(latest)`` holds (waiting for the first message
+        too: a test must not assume that a topic arrived before another); AssertionError
+        naming the last message after ``timeout_s``."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            last = self.latest()
+            if last is not None and predicate(last):
+                return last
+            time.sleep(0.02)
+        raise AssertionError(f"{self._sub.resolved_name} never showed {what} within "
+                             f"{timeout_s} s; last: {self.latest()}")
+
     def clear(self):
         with self._lock:
             self.messages = []
@@ -113,3 +126,20 @@ def unpause_when_subscribed(subscribers, timeout_s=60.0):
         time.sleep(0.05)
     rospy.wait_for_service("/vrep/unpause", timeout=timeout_s)
     rospy.ServiceProxy("/vrep/unpause", Empty)()
+
+
+def pose_of(odometry):
+    """(x, y, yaw) of a nav_msgs/Odometry (ground truth)."""
+    from epuck_vrep_compat.geometry.transforms import yaw_of
+    p, q = odometry.pose.pose.position, odometry.pose.pose.orientation
+    return p.x, p.y, float(yaw_of((q.x, q.y, q.z, q.w)))
+
+
+def learn_test_setup(node_name):
+    """The learning rostests' start: the node, a /rosout guard, the profile's names
+    (``~profile``) and the scene (``~world``)."""
+    from epuck_vrep_compat.compat.epuck_names import PROFILE_NAMES
+    from epuck_vrep_compat.scene.scene_file import load_scene
+    rospy.init_node(node_name)
+    return (RosoutGuard(), PROFILE_NAMES[rospy.get_param("~profile")],
+            load_scene(rospy.get_param("~world")))

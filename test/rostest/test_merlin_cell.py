@@ -360,7 +360,8 @@ class MerlinCell(unittest.TestCase):
             if last is not None and np.allclose(last.position, target, atol=5e-3):
                 reached = True
                 break
-        self.assertTrue(reached, f"IRB140 at {states.latest().position}, target {target}")
+        last = states.latest()
+        self.assertTrue(reached, f"IRB140 at {last and last.position}, target {target}")
         self.assertTrue(all(math.isfinite(v) for m in states.messages for v in m.position))
         for text in ("value nan; ignored", "1 names but 2 values", "unknown joint 'no_such_joint'",
                      "non-finite twist ignored"):

@@ -206,8 +206,8 @@ class ProfileEpuck2(unittest.TestCase):
         self.assertEqual([bytearray(state.data)[k] for k in (1, 3, 5, 7)], [1, 0, 1, 0])
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:        # the markers follow in the same pass
-            leds = {m.id: m.color for m in self.markers.latest().markers
-                    if m.ns == "epuck_robot_1/leds"}
+            markers = self.markers.wait_for(lambda m: True, what="a marker array")
+            leds = {m.id: m.color for m in markers.markers if m.ns == "epuck_robot_1/leds"}
             if leds and leds[1].r == 1.0:
                 break
             time.sleep(0.1)

@@ -120,18 +120,20 @@ class SsmSupervisor(unittest.TestCase):
         z_d = Collector("/ssm_tracked/SIX/operator_uncertainty", Float64)
         far = lambda variance=1e-4: self.publish_estimate(pub, -2.0, 2.0, variance)  # noqa
         self.wait_status(status, "ok", far)
-        self.assertGreater(scale.latest().data, 0.0)
-        self.assertAlmostEqual(z_d.latest().data, 2 * 0.01, delta=1e-9)
+        # each topic is waited for: none is assumed to have arrived with the status
+        scale.wait_for(lambda m: m.data > 0.0, what="a scale above 0")
+        z_d.wait_for(lambda m: abs(m.data - 2 * 0.01) <= 1e-9, what="Z_d = 2 sigma = 0.02 m")
         # Z_d follows the tracker's covariance: 2 sigma of a 0.3 m deviation
         far(0.09)
-        wait_sim_time(0.3)
-        self.assertAlmostEqual(z_d.latest().data, 2 * 0.3, delta=1e-9)
+        z_d.wait_for(lambda m: abs(m.data - 2 * 0.3) <= 1e-9, what="Z_d = 2 sigma = 0.6 m")
         self.publish_estimate(pub, math.nan, 2.0)
         self.wait_status(status, "not finite", lambda: self.publish_estimate(pub, math.nan, 2.0))
+        scale.wait_for(lambda m: m.data == 0.0, what="scale 0 (a protective stop)")
         wait_sim_time(0.3)
-        self.assertEqual(scale.latest().data, 0.0)
+        self.assertEqual(scale.latest().data, 0.0)        # and it holds
         self.wait_status(status, "ok", far)
         self.wait_status(status, "stale")                 # nothing more published
+        scale.wait_for(lambda m: m.data == 0.0, what="scale 0 (a protective stop)")
         wait_sim_time(0.3)
         self.assertEqual(scale.latest().data, 0.0)
         self.assertTrue(any("SIX stopped: operator estimate stale" in w

@@ -12,6 +12,8 @@ import rostest
 import vrep_common.srv
 from vrep_common.msg import VrepInfo
 
+from epuck_vrep_compat.compat import vrep_codes as vc
+
 from sim_test_helpers import PKG, Collector, RosoutGuard, call, handle, wait_sim_time
 
 WALL_AHEAD_OF_CAMERA_M = 0.5 - (0.3 + 0.037)
@@ -258,13 +260,25 @@ class VrepServices(unittest.TestCase):
         self.assertEqual(call("simRosStopSimulation").result, 1)
         stopped = self.wait_info(lambda m: m.simulatorState.data & 1 == 0)
         self.assertEqual(info_seq(stopped), -1)
+        # stopped at the defaults: state 0, as V-REP (its real-time switch is off by default)
+        self.assertEqual(stopped.simulatorState.data, 0)
+        self.assertEqual(call("simRosGetInfo").simulatorState, 0)
         self.assertEqual(call("simRosPauseSimulation").result, 0)
         self.assertEqual(call("simRosStopSimulation").result, 0)
         self.assertEqual(call("simRosStartSimulation").result, 1)
         self.wait_info(lambda m: m.simulatorState.data & 1 == 1 and info_seq(m) >= 0)
         info = call("simRosGetInfo")
-        self.assertEqual(info.simulatorState & 4, 4)                       # real time (rtf 1)
+        self.assertEqual(info.simulatorState & 4, 0)      # the real-time switch: off (V-REP's)
         self.assertAlmostEqual(info.timeStep, 0.05, places=6)
+        realtime = vc.BOOLPARAM_REALTIME_SIMULATION
+        try:
+            self.assertEqual(call("simRosSetBooleanParameter", parameter=realtime,
+                                  parameterValue=1).result, 1)
+            self.assertEqual(call("simRosGetInfo").simulatorState & 4, 4)
+            self.wait_info(lambda m: m.simulatorState.data & 4 == 4)
+        finally:
+            call("simRosSetBooleanParameter", parameter=realtime, parameterValue=0)
+        self.assertEqual(call("simRosGetInfo").simulatorState & 4, 0)
 
     # --- signals, parameters, selection, errors -------------------------------------------------
     def test_signals(self):
@@ -287,7 +301,9 @@ class VrepServices(unittest.TestCase):
 
     def test_parameters_and_selection(self):
         self.assertEqual(call("simRosGetIntegerParameter", parameter=1).parameterValue, 30300)
-        self.assertEqual(call("simRosGetBooleanParameter", parameter=25).parameterValue, 1)
+        # the real-time switch: off, V-REP's default (the pace is rtf's)
+        self.assertEqual(call("simRosGetBooleanParameter",
+                              parameter=vc.BOOLPARAM_REALTIME_SIMULATION).parameterValue, 0)
         self.assertEqual(call("simRosGetBooleanParameter", parameter=9999).parameterValue, -1)
         self.assertAlmostEqual(call("simRosGetFloatingParameter", parameter=1).parameterValue,
                                0.05, places=6)

@@ -23,13 +23,14 @@ PKG = "epuck_vrep_compat"
 LAYERS = (
     ("_core", "paths", "msg", "srv"),   # the compiled core, data paths, generated messages
     ("compat", "geometry"),             # names and codes once; pure geometry: no ROS, no core
+    ("policy",),                        # observation builder, shipped controller: numpy only
     ("scene",),                         # scene and model files, registry, placement
     ("devices",),                       # the components' interface, every family's
     ("sim",),                           # the world (no robot family) and its extension interface
     ("epuck", "cell"),                  # the robot families, extensions: never import each other
     ("builder",),                       # one simulation from a scene and a config, every extension
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
-    ("ros",),                           # the simulator node and its faces
+    ("ros", "learn"),                   # the faces: ROS (the node) and learning (no ROS)
     ("thesis", "nodes", "fidelity"),    # client nodes: they talk to the simulator through ROS
     ("experiment",),                    # many runs of clients and the simulator, on Dask
 )
@@ -40,8 +41,13 @@ ROS_LAYERS = (                          # inside ros/, bottom first
     ("node",),                          # the simulator node that holds the faces
 )
 PRIVATE_MODULES_ALLOWED = {f"{PKG}._core"}   # the binding, re-exported by the package
-PURE = ("compat", "geometry")           # plain Python (and numpy): every layer and client uses them
+PURE = ("compat", "geometry", "policy")  # plain Python (and numpy): every layer and client uses them
 PURE_MAY_IMPORT = set(sys.stdlib_module_names) | {"numpy"}
+PURE_MAY_USE = {"policy": ("policy", "compat", "geometry")}   # a pure group's pure groups below
+NO_ROS = ("learn",)                     # faces on the simulation that must not load ROS
+ROS_MODULES = {"rospy", "rosgraph", "roslib", "rospkg", "roslaunch", "rostest", "genpy",
+               "std_msgs", "sensor_msgs", "geometry_msgs", "nav_msgs", "tf2_ros", "tf",
+               "rosbag", "rostopic", "visualization_msgs", "tf2_msgs", "rosgraph_msgs"}
 CLIENTS = ("thesis", "nodes", "fidelity", "experiment")   # they talk to the simulator by ROS only
 CLIENTS_MAY_IMPORT = PURE + ("msg", "srv") + CLIENTS       # (between clients, as LAYERS allows)
 CLIENT_EXCEPTIONS = {                   # module: why a client may import it
@@ -192,21 +198,42 @@ def outside_imports(path):
 
 
 def pure_import_problems(module, path, is_package):
-    """What a module of compat or geometry imports beyond the library, numpy and its own group."""
+    """What a module of compat, geometry or policy imports beyond the library, numpy, its own
+    group and the pure groups it may use (PURE_MAY_USE)."""
     group = module.split(".")[1]
     wrong = [f"{module} imports {name}" for name in outside_imports(path)
              if name not in PURE_MAY_IMPORT | {PKG}]
     return wrong + [f"{module} imports {target}"
                     for target, _ in imports_of(module, path, is_package)
-                    if target.split(".")[1:2] != [group]]
+                    if target.split(".")[1:2] == [] or
+                    target.split(".")[1] not in PURE_MAY_USE.get(group, (group,))]
 
 
 def test_names_and_geometry_speak_no_ros():
-    """compat and geometry load nothing but Python's library and numpy: no ROS, no core, no
-    other part of the package (so the ROS-free layers stay ROS-free through them)."""
+    """compat, geometry and policy load nothing but Python's library and numpy: no ROS, no
+    core, no other part of the package than the pure groups below them (so the ROS-free
+    layers, and the clients, stay ROS-free and core-free through them)."""
     wrong = [problem for module, path, is_package in module_files()
              if module.split(".")[1:2] and module.split(".")[1] in PURE
              for problem in pure_import_problems(module, path, is_package)]
+    assert wrong == [], "\n".join(sorted(wrong))
+
+
+def ros_import_problems(module, path):
+    """What a module of a ROS-free face (NO_ROS) imports of ROS, or of the package's ROS parts
+    (the messages, ros/, the clients)."""
+    wrong = [f"{module} imports {name}" for name in outside_imports(path) if name in ROS_MODULES]
+    ros_parts = ("msg", "srv", "ros") + CLIENTS
+    return wrong + [f"{module} imports {target}" for target, _ in imports_of(module, path, False)
+                    if target.split(".")[1:2] and target.split(".")[1] in ros_parts]
+
+
+def test_learning_environments_load_no_ros():
+    """learn/ is a face on the simulation beside the ROS faces that loads nothing of ROS: the
+    environments run where ROS is not installed."""
+    wrong = [problem for module, path, _ in module_files()
+             if module.split(".")[1:2] and module.split(".")[1] in NO_ROS
+             for problem in ros_import_problems(module, path)]
     assert wrong == [], "\n".join(sorted(wrong))
 
 
@@ -246,3 +273,12 @@ def test_the_check_sees_a_wrong_import(graph, tmp_path):
                       "from epuck_vrep_compat.compat import topics\n")
     assert pure_import_problems(f"{PKG}.compat.m", str(source), False) == [
         f"{PKG}.compat.m imports rospy", f"{PKG}.compat.m imports {PKG}"]
+    assert pure_import_problems(f"{PKG}.policy.m", str(source), False) == [
+        f"{PKG}.policy.m imports rospy", f"{PKG}.policy.m imports {PKG}"]   # compat: allowed
+    assert pure_import_problems(f"{PKG}.geometry.m", str(source), False)[-1] == \
+        f"{PKG}.geometry.m imports {PKG}.compat"
+    source.write_text("import rospy\nfrom sensor_msgs.msg import Range\n"
+                      "from epuck_vrep_compat.ros.epuck import sensors\n")
+    assert ros_import_problems(f"{PKG}.learn.m", str(source)) == [
+        f"{PKG}.learn.m imports rospy", f"{PKG}.learn.m imports sensor_msgs",
+        f"{PKG}.learn.m imports {PKG}.ros.epuck"]

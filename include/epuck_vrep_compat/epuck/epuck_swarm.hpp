@@ -39,6 +39,21 @@ constexpr double kMaxImuStddev = 1000.0;
 /// Largest relative wheel-speed noise SD accepted.
 constexpr double kMaxSlipStddev = 1.0;
 
+/// Where EpuckSwarm::write_outputs copies the state: for each output, the first of size()
+/// consecutive rows of a caller-owned row-major buffer (a batch of swarms hands in its rows of
+/// shared arrays), each row as wide as that output.
+struct SwarmOutputRows {
+  double* poses;         ///< 3 a row, as poses()
+  double* velocities;    ///< 3, as velocities()
+  double* wheel_speeds;  ///< 2, as wheel_speeds()
+  double* odometry;      ///< 5, as odometry()
+  double* ranges;        ///< K, as ranges()
+  double* ranges_clean;  ///< K, as ranges_clean()
+  double* accel;         ///< 3, as accel()
+  double* gyro;          ///< 3, as gyro()
+  bool* in_contact;      ///< 1, as in_contact()
+};
+
 /// The swarm; it adds its robots' bodies to a CollisionWorld that must outlive it.
 class EpuckSwarm {
  public:
@@ -76,6 +91,12 @@ class EpuckSwarm {
   void set_slip_noise(const Eigen::Ref<const VectorXd>& stddev);
   /// Restarts every noise stream of every robot from @p seed.
   void reseed(std::uint64_t seed);
+  /// Starts the swarm over where its robots stand: frame 0, every noise stream restarted from
+  /// @p seed, and each robot as add_robot leaves it at its current pose (odometry there, no
+  /// velocity history, wheels at rest and at angle zero, readings as before any step). Robots,
+  /// poses and noise settings stay. A run after reset() repeats the run after the robots were
+  /// added, bit for bit, when the poses and the world are the same.
+  void reset(std::uint64_t seed);
 
   /// Advances every robot by dt_s in (0, kMaxStep_s] with wheel commands (N, 2) = (left,
   /// right) rad/s; non-finite commands stop the robot (see clamp_wheel_command).
@@ -111,6 +132,13 @@ class EpuckSwarm {
   RowMatrixXd accel() const;
   /// (N, 3) gyroscope, body frame, rad/s.
   RowMatrixXd gyro() const;
+  /// (N,) true for a robot that was in a penetrating contact (an obstacle, another robot)
+  /// during the last step's contact resolution (body_contacts.hpp), false before any step.
+  VectorXb in_contact() const;
+  /// Copies poses, velocities, wheel speeds, odometry, ranges, clean ranges, accelerometer,
+  /// gyroscope and contacts into the rows @p out points at, in one pass over the robots.
+  /// Allocates nothing.
+  void write_outputs(const SwarmOutputRows& out) const;
   /// (N,) body handles.
   VectorXi handles() const;
   /// (N,) noise stream ids (see the file comment).
@@ -145,11 +173,13 @@ class EpuckSwarm {
     Vec3 accel_bias = Vec3::Zero();
     Vec3 gyro_bias = Vec3::Zero();
     double slip_stddev = 0.0;
+    bool in_contact = false;
     Rng ir_rng, accel_rng, gyro_rng, slip_rng;
   };
 
   Robot& robot_at(int index);
   void seed_streams(Robot& robot) const;
+  void clear_motion(Robot& robot) const;
   Pose body_pose(const Pose2& pose) const;
   void move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s);
   void read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
@@ -160,6 +190,7 @@ class EpuckSwarm {
   RowMatrixXd per_robot(int columns, Get get) const;
   template <typename Get>
   RowMatrixXd per_sensor_vector(Get get) const;
+  RowMatrixXd sensor_values(double SensorOutput::*reading) const;
 
   CollisionWorld& world_;
   EpuckModel model_;
@@ -181,6 +212,9 @@ class EpuckSwarm {
   std::vector<const Body*> nearby_;
   std::vector<Eigen::Vector2d> nearby_anchor_m_;  // each robot's x, y when they were found
   std::vector<ConeCandidate> candidates_;          // scratch: one robot's, for its cones
+  std::vector<Pose2> start_;                       // scratch of step(): poses at its start
+  std::vector<MovableBody> bodies_;                // scratch of step(): bodies to resolve
+  std::vector<char> touched_;                      // scratch of step(): contacts found
 };
 
 }  // namespace evc

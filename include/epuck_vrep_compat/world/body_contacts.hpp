@@ -68,7 +68,8 @@ class ContactCache {
 
  private:
   friend double resolve_penetrations(CollisionWorld&, std::vector<MovableBody>&,
-                                     const ContactSettings&, ContactCache*);
+                                     const ContactSettings&, ContactCache*,
+                                     std::vector<char>*);
   std::unique_ptr<State> state_;
 };
 
@@ -76,8 +77,10 @@ class ContactCache {
 /// leaves the resolved poses in both. Throws UnknownHandle for a body the world lacks.
 /// Returns the deepest penetration found by the last pass, metres. With @p cache, the
 /// neighbour lists of the previous call with the same cache are reused when they still hold.
+/// With @p touched, entry i is set to 1 when body i was in a penetrating contact (with anything,
+/// listed or not) in any pass, else 0: what the bodies bumped into during this call.
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
                             const ContactSettings& settings = ContactSettings(),
-                            ContactCache* cache = nullptr);
+                            ContactCache* cache = nullptr, std::vector<char>* touched = nullptr);
 
 }  // namespace evc

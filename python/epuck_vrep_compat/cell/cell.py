@@ -21,6 +21,7 @@ from epuck_vrep_compat.cell.devices.link_collisions import LinkCollisions
 from epuck_vrep_compat.cell.devices.operator import add_operator
 from epuck_vrep_compat.cell.devices.ray_proximity import RayProximityBank
 from epuck_vrep_compat.cell.loaded_models import load_cell_robot
+from epuck_vrep_compat.cell.speed_watchdog import SpeedScaleWatchdog
 from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.geometry.transforms import yaw_of
 
@@ -53,6 +54,7 @@ class Cell(SimulationExtension):
         self._build_kinect()
         self.scan_count = 0                 # laser scans taken so far (a reader compares)
         self.blobs: Dict[str, np.ndarray] = {}
+        self.watchdog = SpeedScaleWatchdog()    # off until configured (through commands)
         self.commands = CellCommands(self)      # the faces' one way in
         self._sync_world()
         self._sense()
@@ -96,6 +98,7 @@ class Cell(SimulationExtension):
 
     # --- stepping -----------------------------------------------------------------------------
     def step(self, dt: float):
+        self.watchdog.check(self.arms, self.sim.time_s)
         for arm in self.arms:
             arm.script_time += dt * arm.speed_scale     # a safety override slows the script
             if not arm.external:
@@ -269,6 +272,7 @@ class Cell(SimulationExtension):
                 np.array([0.0, 0.0, wz]))
 
     def reset(self):
+        self.watchdog.restart(self.sim.time_s)
         for arm in self.arms:
             arm.reset()
         if self.operator is not None:

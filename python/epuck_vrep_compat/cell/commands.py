@@ -1,5 +1,5 @@
 """Commands to the cell's robots, the one way in for the ROS faces (from rospy's threads):
-joint targets, a mobile base's twist, the safety speed scale.
+joint targets, a mobile base's twist, the safety speed scale and its watchdog.
 
 Each call takes the simulation lock (``Simulation.lock``, which every step holds), so one
 command message lands whole between two steps and the last one wins. A call checks what it is
@@ -65,4 +65,16 @@ class CellCommands:
         with self._cell.sim.lock:
             arm = self._cell.arm_by_name.get(robot)
             if arm is not None:
+                self._cell.watchdog.fresh(robot, self._cell.sim.time_s)
                 arm.set_speed_scale(scale if math.isfinite(scale) else 0.0)
+
+    def watch_speed_scale(self, timeout_s: float, robots=None):
+        """Turn the speed scale's watchdog on (``timeout_s`` > 0) for ``robots`` (None: every
+        robot, also those loaded later) or off (0); see :mod:`..speed_watchdog`. ValueError for
+        a bad timeout or a robot the cell does not have."""
+        with self._cell.sim.lock:
+            unknown = sorted(set(robots or ()) - set(self._cell.arm_by_name))
+            if unknown:
+                raise ValueError(f"no cell robot named {', '.join(unknown)} (the cell has "
+                                 f"{', '.join(sorted(self._cell.arm_by_name))})")
+            self._cell.watchdog.configure(timeout_s, robots, self._cell.sim.time_s)

@@ -85,6 +85,8 @@ EPUCK2_DRIVER = ProfileNames(
     root_frame_prefix="epuck2_robot_0",      # epuck2_controller.launch's default epuck2_name
 )
 
+PROFILE_NAMES: Dict[str, ProfileNames] = {p.name: p for p in (VREP, EPUCK_DRIVER, EPUCK2_DRIVER)}
+
 # V-REP's e-puck model: its root object's name and its parts' (a copy's carry V-REP's "#k").
 MODEL_ROOT_OBJECT = "ePuck"
 

@@ -26,6 +26,8 @@ CELL_LASER_TOPIC = "front_scan"
 # The cell's safety interface (issue 13): a supervisor's speed override per robot, in; the
 # operator-to-link separation from the simulator's collision world, a service of /vrep.
 SPEED_SCALE_TOPIC = "/{robot}/speed_scale"              # std_msgs/Float64, 0..1
+# std_msgs/Bool, latched, on change: the simulator holds the robot, its speed scale went stale
+SAFETY_STOP_TOPIC = "/{robot}/safety_stop"
 OPERATOR_SEPARATION_SERVICE = NODE_NAMESPACE + "operator_separation"
 # The operator's blob, published by the ceiling cameras' child scripts through the plugin
 # (thesis 5.1): the thesis's nodes and the operator tracker read it.

@@ -5,7 +5,9 @@ Every cycle (``~rate_hz``, simulation time): the operator's position (the tracke
 ``~operator_topic``, ``geometry_msgs/PoseWithCovarianceStamped``, or with ``~ground_truth``
 where he is) goes to ``/vrep/operator_separation``, which answers every link's minimum distance
 to his body from the simulator's collision world; each link's speed at its closest point comes
-from ``/<robot>/joint_states`` and ``/<robot>/robot_description``; the robot's separation is
+from ``/<robot>/joint_states`` and ``/<robot>/robot_description``, plus the base's own motion
+(a mobile base: the youBot's), from the root link's frame on TF between two cycles; the
+robot's separation is
 its links' minimum, S_p is taken at its fastest link's speed, and the speed scale goes to
 ``/<robot>/speed_scale``, which the simulator applies to whatever moves the robot.
 
@@ -24,6 +26,7 @@ import math
 
 import numpy as np
 import rospy
+import tf2_ros
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Float64, String
@@ -34,7 +37,7 @@ from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.frames import WORLD_FRAME
 from epuck_vrep_compat.compat.topics import (
     JOINT_STATES_TOPIC, OPERATOR_SEPARATION_SERVICE, ROBOT_DESCRIPTION_PARAM, SPEED_SCALE_TOPIC)
-from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds
+from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds, root_twist
 from epuck_vrep_compat.nodes.ssm_markers import robot_markers
 from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
@@ -71,6 +74,8 @@ class RobotChannel:
         self.governor = ArmGovernor(p)
         self.joints = None
         self.kinematics = None
+        self.root_pose = None        # (stamp, position, quaternion) of the root on TF
+        self.root_velocity = (None, None)     # its (linear, angular), root frame; None: rest
         self.status = None
         self._sub = rospy.Subscriber(JOINT_STATES_TOPIC.format(robot=ros_name), JointState,
                                      self._on_joints, queue_size=1)
@@ -86,16 +91,31 @@ class RobotChannel:
     def _on_joints(self, msg):
         self.joints = msg
 
-    def link_speeds(self, links, local_points):
-        """Speeds of the points, or None while the robot's description is unknown."""
+    def link_speeds(self, links, local_points, tf_buffer):
+        """Speeds of the points, or None while the robot's description or its root's frame
+        on TF is unknown."""
         if self.kinematics is None:
             description = rospy.get_param(ROBOT_DESCRIPTION_PARAM.format(robot=self.ros_name), None)
             if description is None:
                 return None
             self.kinematics = LinkSpeeds(description)
+        try:
+            t = tf_buffer.lookup_transform(WORLD_FRAME, self.kinematics.root, rospy.Time(0))
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException):
+            return None
+        p, r = t.transform.translation, t.transform.rotation
+        pose = (t.header.stamp.to_sec(), np.array([p.x, p.y, p.z]),
+                np.array([r.x, r.y, r.z, r.w]))
+        if self.root_pose is None:
+            self.root_pose = pose
+        elif pose[0] > self.root_pose[0]:       # a new frame: the twist since the last one
+            self.root_velocity = root_twist(self.root_pose, pose)
+            self.root_pose = pose
+        linear, angular = self.root_velocity
         j = self.joints
         return self.kinematics.speeds(j.name, j.position, j.velocity or [0.0] * len(j.name),
-                                      links, local_points)
+                                      links, local_points, linear, angular)
 
     def report(self, separation, s_p, scale, status, z_d=math.nan):
         self.command.publish(Float64(scale))
@@ -120,6 +140,8 @@ class SsmSupervisor:
         self.channels = {name: RobotChannel(name, self.p) for name in robots}
         self.fixed_robots = bool(robots)
         self.query = rospy.ServiceProxy(OPERATOR_SEPARATION_SERVICE, OperatorSeparation)
+        self.tf_buffer = tf2_ros.Buffer(rospy.Duration(5.0))
+        self._tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.markers = rospy.Publisher("~markers", MarkerArray, queue_size=1)
         if not self.ground_truth:
             self._sub = rospy.Subscriber(operator_topic, PoseWithCovarianceStamped,
@@ -196,9 +218,10 @@ class SsmSupervisor:
         speeds = None
         if fault is None:
             speeds = channel.link_speeds([answer.link[i] for i in rows],
-                                         [_xyz(answer.link_point_local[i]) for i in rows])
+                                         [_xyz(answer.link_point_local[i]) for i in rows],
+                                         self.tf_buffer)
             if speeds is None or not np.isfinite(speeds).all():
-                fault = "link speeds unknown (robot_description or joint states)"
+                fault = "link speeds unknown (robot_description, joint states or TF)"
         if fault is not None:
             return self._fail(channel, fault)
         distances = np.array([answer.distance[i] for i in rows])

@@ -8,6 +8,7 @@
 #include "epuck_vrep_compat/epuck/cone_sensor.hpp"
 #include "epuck_vrep_compat/epuck/imu_model.hpp"
 #include "epuck_vrep_compat/world/body_contacts.hpp"
+#include "epuck/shape_checks.hpp"
 #include "world/body.hpp"
 
 namespace evc {
@@ -21,14 +22,6 @@ constexpr int kSensorMask = kGroupStatic | kGroupRobot | kGroupDynamic;
 // How far beyond its cones' reach a robot's list of what they may see extends; the lists
 // last until some robot has moved half of it.
 constexpr double kNearbyMargin_m = 0.03;
-
-void check_shape(const Eigen::Ref<const RowMatrixXd>& values, Eigen::Index rows,
-                 Eigen::Index cols, const char* name) {
-  if (values.rows() != rows || values.cols() != cols) {
-    throw std::invalid_argument(std::string(name) + " must have shape (" + std::to_string(rows) +
-                                ", " + std::to_string(cols) + ")");
-  }
-}
 
 // Standard deviations must be in [0, limit]: a huge finite one (1e308) would carry inf into
 // the pose or the readings as surely as inf itself.
@@ -68,13 +61,7 @@ int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
   Robot robot;
   robot.handle = handle;
   robot.pose = Pose2{x_m, y_m, wrap_angle(yaw_rad)};
-  robot.odometry = robot.pose;
-  robot.accel = Vec3(0.0, 0.0, model_.gravity_m_s2);
-  for (const ConeSensor& sensor : model_.sensors) {
-    SensorOutput nothing;
-    nothing.clean_m = nothing.noisy_m = sensor.max_range_m;
-    robot.sensors.push_back(nothing);
-  }
+  clear_motion(robot);
   robot.ir_noise.assign(model_.sensors.size(), RangeNoise());
   robot.stream = next_stream_;
   seed_streams(robot);
@@ -83,6 +70,26 @@ int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
   ++next_stream_;  // only once the body is in: a refused robot takes no stream
   robots_.push_back(std::move(robot));
   return size() - 1;
+}
+
+// Everything of a robot that a step changes, other than its pose, as a robot just added at that
+// pose has it.
+void EpuckSwarm::clear_motion(Robot& robot) const {
+  robot.odometry = robot.pose;
+  robot.odometry_twist = Twist2();
+  robot.velocity.setZero();
+  robot.has_velocity = false;
+  robot.wheel_speed = WheelPair();
+  robot.wheel_angle = WheelPair();
+  robot.accel = Vec3(0.0, 0.0, model_.gravity_m_s2);
+  robot.gyro.setZero();
+  robot.in_contact = false;
+  robot.sensors.clear();
+  for (const ConeSensor& sensor : model_.sensors) {
+    SensorOutput nothing;
+    nothing.clean_m = nothing.noisy_m = sensor.max_range_m;
+    robot.sensors.push_back(nothing);
+  }
 }
 
 void EpuckSwarm::remove_robot(int index) {
@@ -102,6 +109,16 @@ void EpuckSwarm::seed_streams(Robot& robot) const {
 void EpuckSwarm::reseed(std::uint64_t seed) {
   seed_ = seed;
   for (Robot& robot : robots_) seed_streams(robot);
+}
+
+void EpuckSwarm::reset(std::uint64_t seed) {
+  reseed(seed);
+  for (Robot& robot : robots_) clear_motion(robot);
+  frame_ = 0;
+  // What the last steps kept about the world goes too, so the next step finds it as the
+  // first step after the robots were added did.
+  nearby_valid_ = false;
+  contact_cache_.clear();
 }
 
 Pose EpuckSwarm::body_pose(const Pose2& pose) const {
@@ -161,9 +178,7 @@ void EpuckSwarm::set_imu_bias(const Eigen::Ref<const RowMatrixXd>& accel_bias,
 }
 
 void EpuckSwarm::set_slip_noise(const Eigen::Ref<const VectorXd>& stddev) {
-  if (stddev.size() != size()) {
-    throw std::invalid_argument("stddev must have shape (" + std::to_string(size()) + ",)");
-  }
+  check_length(stddev.size(), size(), "stddev");
   check_stddev(stddev.transpose(), kMaxSlipStddev, "stddev");
   for (int i = 0; i < size(); ++i) robots_[i].slip_stddev = stddev[i];
 }
@@ -196,18 +211,19 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
   // about it (the contact lists, what the cones may see) must be found again.
   const bool world_changed = !nearby_valid_ || world_.revision() != revision_seen_;
   nearby_valid_ = false;  // until this step completes
-  std::vector<Pose2> start(robots_.size());
+  std::vector<Pose2>& start = start_;
+  start.resize(robots_.size());
   for (std::size_t i = 0; i < robots_.size(); ++i) start[i] = robots_[i].pose;
   move_robots(dt_s, wheel_cmd_rad_s);
 
-  std::vector<MovableBody> bodies;
-  bodies.reserve(robots_.size());
-  for (const Robot& robot : robots_) bodies.push_back({robot.handle, body_pose(robot.pose)});
-  resolve_penetrations(world_, bodies, ContactSettings(), &contact_cache_);
+  bodies_.clear();
+  for (const Robot& robot : robots_) bodies_.push_back({robot.handle, body_pose(robot.pose)});
+  resolve_penetrations(world_, bodies_, ContactSettings(), &contact_cache_, &touched_);
   world_.maintain_broadphase();
   for (std::size_t i = 0; i < robots_.size(); ++i) {
-    robots_[i].pose.x_m = bodies[i].pose.position_m.x();
-    robots_[i].pose.y_m = bodies[i].pose.position_m.y();
+    robots_[i].pose.x_m = bodies_[i].pose.position_m.x();
+    robots_[i].pose.y_m = bodies_[i].pose.position_m.y();
+    robots_[i].in_contact = touched_[i] != 0;
   }
 
   find_nearby(world_changed);

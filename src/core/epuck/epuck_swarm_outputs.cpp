@@ -1,12 +1,42 @@
-// The swarm's state as row-per-robot matrices, the layout the binding hands to numpy.
+// The swarm's state as row-per-robot matrices, the layout the binding hands to numpy: each
+// output's row is written by one function below, whether into a new matrix or into a caller's
+// buffer (write_outputs).
 #include "epuck_vrep_compat/epuck/epuck_swarm.hpp"
 
 namespace evc {
+namespace {
+
+// One robot's row of each output (generic: the robot type is the swarm's private one).
+const auto kPoseRow = [](const auto& r) {
+  return Eigen::RowVector3d(r.pose.x_m, r.pose.y_m, r.pose.yaw_rad);
+};
+const auto kVelocityRow = [](const auto& r) { return r.velocity.transpose(); };
+const auto kWheelSpeedRow = [](const auto& r) {
+  return Eigen::RowVector2d(r.wheel_speed.left, r.wheel_speed.right);
+};
+const auto kOdometryRow = [](const auto& r) {
+  Eigen::Matrix<double, 1, 5> row;
+  row << r.odometry.x_m, r.odometry.y_m, r.odometry.yaw_rad, r.odometry_twist.v_m_s,
+      r.odometry_twist.w_rad_s;
+  return row;
+};
+const auto kAccelRow = [](const auto& r) { return r.accel.transpose(); };
+const auto kGyroRow = [](const auto& r) { return r.gyro.transpose(); };
+
+}  // namespace
 
 template <typename Get>
 RowMatrixXd EpuckSwarm::per_robot(int columns, Get get) const {
   RowMatrixXd out(size(), columns);
   for (int i = 0; i < size(); ++i) out.row(i) = get(robots_[i]);
+  return out;
+}
+
+RowMatrixXd EpuckSwarm::sensor_values(double SensorOutput::*reading) const {
+  RowMatrixXd out(size(), sensor_count());
+  for (int i = 0; i < size(); ++i) {
+    for (int k = 0; k < sensor_count(); ++k) out(i, k) = robots_[i].sensors[k].*reading;
+  }
   return out;
 }
 
@@ -22,21 +52,11 @@ RowMatrixXd EpuckSwarm::per_sensor_vector(Get get) const {
   return out;
 }
 
-RowMatrixXd EpuckSwarm::poses() const {
-  return per_robot(3, [](const Robot& r) {
-    return Eigen::RowVector3d(r.pose.x_m, r.pose.y_m, r.pose.yaw_rad);
-  });
-}
+RowMatrixXd EpuckSwarm::poses() const { return per_robot(3, kPoseRow); }
 
-RowMatrixXd EpuckSwarm::velocities() const {
-  return per_robot(3, [](const Robot& r) { return r.velocity.transpose(); });
-}
+RowMatrixXd EpuckSwarm::velocities() const { return per_robot(3, kVelocityRow); }
 
-RowMatrixXd EpuckSwarm::wheel_speeds() const {
-  return per_robot(2, [](const Robot& r) {
-    return Eigen::RowVector2d(r.wheel_speed.left, r.wheel_speed.right);
-  });
-}
+RowMatrixXd EpuckSwarm::wheel_speeds() const { return per_robot(2, kWheelSpeedRow); }
 
 RowMatrixXd EpuckSwarm::wheel_angles() const {
   return per_robot(2, [](const Robot& r) {
@@ -44,30 +64,11 @@ RowMatrixXd EpuckSwarm::wheel_angles() const {
   });
 }
 
-RowMatrixXd EpuckSwarm::odometry() const {
-  return per_robot(5, [](const Robot& r) {
-    Eigen::Matrix<double, 1, 5> row;
-    row << r.odometry.x_m, r.odometry.y_m, r.odometry.yaw_rad, r.odometry_twist.v_m_s,
-        r.odometry_twist.w_rad_s;
-    return row;
-  });
-}
+RowMatrixXd EpuckSwarm::odometry() const { return per_robot(5, kOdometryRow); }
 
-RowMatrixXd EpuckSwarm::ranges_clean() const {
-  return per_robot(sensor_count(), [this](const Robot& r) {
-    Eigen::RowVectorXd row(sensor_count());
-    for (int k = 0; k < sensor_count(); ++k) row[k] = r.sensors[k].clean_m;
-    return row;
-  });
-}
+RowMatrixXd EpuckSwarm::ranges_clean() const { return sensor_values(&SensorOutput::clean_m); }
 
-RowMatrixXd EpuckSwarm::ranges() const {
-  return per_robot(sensor_count(), [this](const Robot& r) {
-    Eigen::RowVectorXd row(sensor_count());
-    for (int k = 0; k < sensor_count(); ++k) row[k] = r.sensors[k].noisy_m;
-    return row;
-  });
-}
+RowMatrixXd EpuckSwarm::ranges() const { return sensor_values(&SensorOutput::noisy_m); }
 
 RowMatrixXi EpuckSwarm::detected_handles() const {
   RowMatrixXi out(size(), sensor_count());
@@ -85,12 +86,32 @@ RowMatrixXd EpuckSwarm::detected_normals() const {
   return per_sensor_vector([](const SensorOutput& s) { return s.normal; });
 }
 
-RowMatrixXd EpuckSwarm::accel() const {
-  return per_robot(3, [](const Robot& r) { return r.accel.transpose(); });
+RowMatrixXd EpuckSwarm::accel() const { return per_robot(3, kAccelRow); }
+
+RowMatrixXd EpuckSwarm::gyro() const { return per_robot(3, kGyroRow); }
+
+VectorXb EpuckSwarm::in_contact() const {
+  VectorXb out(size());
+  for (int i = 0; i < size(); ++i) out[i] = robots_[i].in_contact;
+  return out;
 }
 
-RowMatrixXd EpuckSwarm::gyro() const {
-  return per_robot(3, [](const Robot& r) { return r.gyro.transpose(); });
+void EpuckSwarm::write_outputs(const SwarmOutputRows& out) const {
+  const int k_count = sensor_count();
+  for (int i = 0; i < size(); ++i) {
+    const Robot& r = robots_[i];
+    Eigen::Map<Eigen::RowVector3d>(out.poses + 3 * i) = kPoseRow(r);
+    Eigen::Map<Eigen::RowVector3d>(out.velocities + 3 * i) = kVelocityRow(r);
+    Eigen::Map<Eigen::RowVector2d>(out.wheel_speeds + 2 * i) = kWheelSpeedRow(r);
+    Eigen::Map<Eigen::Matrix<double, 1, 5>>(out.odometry + 5 * i) = kOdometryRow(r);
+    for (int k = 0; k < k_count; ++k) {
+      out.ranges[i * k_count + k] = r.sensors[k].noisy_m;
+      out.ranges_clean[i * k_count + k] = r.sensors[k].clean_m;
+    }
+    Eigen::Map<Eigen::RowVector3d>(out.accel + 3 * i) = kAccelRow(r);
+    Eigen::Map<Eigen::RowVector3d>(out.gyro + 3 * i) = kGyroRow(r);
+    out.in_contact[i] = r.in_contact;
+  }
 }
 
 VectorXi EpuckSwarm::handles() const {

@@ -114,6 +114,18 @@ struct ContactCache::State {
   std::vector<Eigen::Vector2d> anchor_m;           // per listed body: where, at the rebuild
   std::vector<Neighbour> neighbours;               // body i's: [first[i], first[i + 1])
   std::vector<std::size_t> first;
+  // Scratch of one call, kept so that a stepper calling every step allocates nothing.
+  struct Scratch {
+    std::vector<PlanarShape> shape;                // per listed body, centre as at the start
+    std::vector<char> dirty;                       // moved since the world last learnt its pose
+    std::vector<std::size_t> moved;                // the dirty bodies, in the order they moved
+    std::vector<const Body*> found;                // broadphase answers
+    std::vector<std::size_t> found_first;
+    std::vector<BoxQuery> queries;                 // the rebuild's, one per cylinder
+    std::vector<std::size_t> circles;              // the cylinders' indices, ascending
+    std::vector<char> active, next_active;         // bodies to visit in this pass, the next
+    std::vector<Touch> touches;                    // one body's contacts
+  } scratch;
 };
 
 ContactCache::ContactCache() : state_(std::make_unique<State>()) {}
@@ -133,8 +145,13 @@ class ContactFinder {
   using State = ContactCache::State;
 
   ContactFinder(CollisionWorld& world, std::vector<MovableBody>& bodies, State& state)
-      : world_(world), bodies_(bodies), state_(state), shape_(bodies.size()),
-        dirty_(bodies.size(), 0) {
+      : world_(world), bodies_(bodies), state_(state), shape_(state.scratch.shape),
+        dirty_(state.scratch.dirty), moved_(state.scratch.moved), found_(state.scratch.found),
+        found_first_(state.scratch.found_first), queries_(state.scratch.queries),
+        circles_(state.scratch.circles) {
+    shape_.assign(bodies.size(), PlanarShape());
+    dirty_.assign(bodies.size(), 0);
+    moved_.clear();
     bool same_world = state_.valid && state_.revision == world.revision() &&
                       state_.handles.size() == bodies.size();
     for (std::size_t i = 0; same_world && i < bodies.size(); ++i) {
@@ -344,25 +361,31 @@ class ContactFinder {
   CollisionWorld& world_;
   std::vector<MovableBody>& bodies_;
   State& state_;                          // the lists, this call's or kept from the last
-  std::vector<PlanarShape> shape_;        // per listed body, centre as at the start
   double max_drift_squared_ = 0.0;        // longest displacement since the rebuild, squared
-  std::vector<char> dirty_;               // moved since the world last learnt its pose
-  std::vector<std::size_t> moved_;        // the dirty bodies, in the order they moved
-  std::vector<const Body*> found_;        // scratch for broadphase queries
-  std::vector<std::size_t> found_first_;
-  std::vector<BoxQuery> queries_;         // scratch for the rebuild, one per cylinder
-  std::vector<std::size_t> circles_;      // the cylinders' indices, ascending
+  // The state's scratch (see State::Scratch).
+  std::vector<PlanarShape>& shape_;
+  std::vector<char>& dirty_;
+  std::vector<std::size_t>& moved_;
+  std::vector<const Body*>& found_;
+  std::vector<std::size_t>& found_first_;
+  std::vector<BoxQuery>& queries_;
+  std::vector<std::size_t>& circles_;
 };
 
 }  // namespace
 
 double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bodies,
-                            const ContactSettings& settings, ContactCache* cache) {
+                            const ContactSettings& settings, ContactCache* cache,
+                            std::vector<char>* touched) {
+  if (touched != nullptr) touched->assign(bodies.size(), 0);
   ContactCache::State this_call;
-  ContactFinder finder(world, bodies, cache != nullptr ? *cache->state_ : this_call);
-  std::vector<char> active(bodies.size(), 1);
-  std::vector<char> next_active(bodies.size(), 0);
-  std::vector<Touch> touches;
+  ContactCache::State& state = cache != nullptr ? *cache->state_ : this_call;
+  ContactFinder finder(world, bodies, state);
+  std::vector<char>& active = state.scratch.active;
+  std::vector<char>& next_active = state.scratch.next_active;
+  std::vector<Touch>& touches = state.scratch.touches;
+  active.assign(bodies.size(), 1);
+  next_active.assign(bodies.size(), 0);
   double deepest = 0.0;
   for (int pass = 0; pass < settings.max_passes; ++pass) {
     deepest = 0.0;
@@ -371,7 +394,9 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
       if (!active[i]) continue;
       Eigen::Vector2d move = Eigen::Vector2d::Zero();
       finder.contacts(i, touches);
+      if (touched != nullptr && !touches.empty()) (*touched)[i] = 1;
       for (const Touch& touch : touches) {
+        if (touched != nullptr && touch.other >= 0) (*touched)[touch.other] = 1;
         const Contact& contact = touch.contact;
         deepest = std::max(deepest, contact.depth_m);
         const bool shared = touch.other >= 0;

@@ -68,10 +68,22 @@ class ContactCollector : public btCollisionWorld::ContactResultCallback {
   std::vector<Contact>& out_;
 };
 
+// Bullet's default configuration preallocates pools of 4096 contact manifolds and 4096
+// collision algorithms, about 7 MB a world, touched page by page as it builds their free lists.
+// Here contacts are only queried one object at a time (contactTest), which holds a couple of
+// each for the length of the query, and Bullet takes more from the heap when a pool runs dry:
+// small pools change no result and let thousands of small worlds (BatchedWorlds) fit in memory.
+btDefaultCollisionConstructionInfo small_pools() {
+  btDefaultCollisionConstructionInfo info;
+  info.m_defaultMaxPersistentManifoldPoolSize = 8;
+  info.m_defaultMaxCollisionAlgorithmPoolSize = 8;
+  return info;
+}
+
 }  // namespace
 
 CollisionWorld::CollisionWorld()
-    : configuration_(std::make_unique<btDefaultCollisionConfiguration>()),
+    : configuration_(std::make_unique<btDefaultCollisionConfiguration>(small_pools())),
       dispatcher_(std::make_unique<btCollisionDispatcher>(configuration_.get())),
       // Nothing here consumes broadphase pairs (contacts are queried per object), so a null
       // pair cache keeps Bullet from storing pairs that nobody would ever clean up.

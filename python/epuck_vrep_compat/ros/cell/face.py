@@ -25,12 +25,14 @@ class CellFace(Face):
     Commands go to the model through the cell's command interface (``cell.commands``);
     ``static_tf``: the node's ``/tf_static``."""
 
-    def __init__(self, sim, static_tf):
+    def __init__(self, sim, static_tf, watchdog=(0.0, None)):
+        """``watchdog``: the speed scale's (timeout_s, robots or None for all), see
+        :class:`CellSafety`."""
         self.sim = sim
         self.cell = sim.cell
         self._laser = LaserTopic(self.cell) if self.cell.laser is not None else None
         self._log = log = ThrottledLog()
-        self._safety = CellSafety(sim, log)
+        self._safety = CellSafety(sim, log, watchdog)
         self._arms = {arm.spec.name: ArmTopics(arm, self.cell.commands, log)
                       for arm in self.cell.arms}
         self._transforms = CellTransforms(sim, static_tf)
@@ -63,3 +65,4 @@ class CellFace(Face):
             self._laser.publish(batch, stamp)
         for arm in self._arms.values():
             arm.publish(batch, stamp)
+        self._safety.publish()

@@ -5,6 +5,10 @@
   the simulation at the next step; 1 = full speed, 0 = a protective stop that holds the joints.
   Values above 1 or below 0 are clamped; a non-finite value stops the robot (fail safe). Both
   with a throttled warning.
+- ``/<robot>/safety_stop`` (``std_msgs/Bool``, latched, out on change): true while the
+  simulator holds the robot because its speed scale went stale (the watchdog of
+  ``cell/speed_watchdog.py``, on where a supervisor is configured: ``~speed_scale_timeout_s``,
+  ``~speed_scale_robots``), with one warning when it falls and one line when it resumes.
 - ``/vrep/operator_separation`` (``epuck_vrep_compat/OperatorSeparation``): the closest points
   between the operator's body and every link, from the simulation's collision world (the C++
   core), for the operator where he is or stood where a tracker puts him.
@@ -13,11 +17,12 @@ import math
 
 import rospy
 from geometry_msgs.msg import Point
-from std_msgs.msg import Float64
+from std_msgs.msg import Bool, Float64
 
 from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
 from epuck_vrep_compat.compat.cell_names import ros_robot_name
-from epuck_vrep_compat.compat.topics import OPERATOR_SEPARATION_SERVICE, SPEED_SCALE_TOPIC
+from epuck_vrep_compat.compat.topics import (
+    OPERATOR_SEPARATION_SERVICE, SAFETY_STOP_TOPIC, SPEED_SCALE_TOPIC)
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationResponse
 
 
@@ -28,10 +33,15 @@ def _point(p):
 class CellSafety:
     """The speed-scale subscribers of the cell's robots and the separation service."""
 
-    def __init__(self, sim, log):
+    def __init__(self, sim, log, watchdog=(0.0, None)):
+        """``watchdog``: (timeout_s, robots or None for all), given to the cell's watchdog;
+        ValueError for a robot the cell does not have."""
         self.sim = sim
         self._log = log
         self._scales = {}
+        self._stops = {}                        # robot -> its safety_stop publisher
+        self._stopped = {}                      # robot -> the flag last published
+        sim.cell.commands.watch_speed_scale(*watchdog)
         self.sync()
         self._service = rospy.Service(OPERATOR_SEPARATION_SERVICE, OperatorSeparation,
                                       self._on_separation)
@@ -40,14 +50,38 @@ class CellSafety:
         """A removed robot's subscriber goes, an added robot's comes."""
         for name in [n for n in self._scales if n not in self.sim.cell.arm_by_name]:
             self._scales.pop(name).unregister()
+            self._stops.pop(name).unregister()
+            self._stopped.pop(name, None)
         for name in [n for n in self.sim.cell.arm_by_name if n not in self._scales]:
             self._scales[name] = rospy.Subscriber(
                 SPEED_SCALE_TOPIC.format(robot=ros_robot_name(name)), Float64, self._on_scale,
                 callback_args=name, queue_size=1)
+            self._stops[name] = rospy.Publisher(
+                SAFETY_STOP_TOPIC.format(robot=ros_robot_name(name)), Bool, queue_size=1,
+                latch=True)
+
+    def publish(self):
+        """After a step: each robot's safety_stop when it changed (and the first time)."""
+        watchdog = self.sim.cell.watchdog
+        for name, publisher in self._stops.items():
+            stopped = watchdog.stopped.get(name, False)
+            if self._stopped.get(name) == stopped:
+                continue
+            if stopped:
+                rospy.logwarn("%s: no %s for %.2f s of simulated time (the watchdog's timeout "
+                              "is %.2f s): protective stop until a fresh scale arrives", name,
+                              SPEED_SCALE_TOPIC.format(robot=ros_robot_name(name)),
+                              watchdog.age_s(name, self.sim.time_s), watchdog.timeout_s)
+            elif name in self._stopped and self._stopped[name]:
+                rospy.loginfo("%s: a fresh speed scale arrived; the robot resumes", name)
+            self._stopped[name] = stopped
+            publisher.publish(Bool(stopped))
 
     def close(self):
         for subscriber in self._scales.values():
             subscriber.unregister()
+        for publisher in self._stops.values():
+            publisher.unregister()
         self._service.shutdown()
 
     def _on_scale(self, msg, name):

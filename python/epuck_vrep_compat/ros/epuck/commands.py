@@ -1,46 +1,9 @@
-"""Pure logic of the command topics: cmd_vel scalings and cmd_led semantics.
-
-``cmd_vel`` conventions (parameter ``~cmd_vel_scaling``):
-
-* ``si`` (default): REP 103, linear.x in m/s and angular.z in rad/s, turned into wheel speeds with
-  the e-puck's geometry.
-* ``vrep``: exactly the V-REP model's script: linear = 8.9 * linear.x, wheel = (linear -+ 26.5 *
-  angular.z) / 40 applied directly as joint speed in rad/s (its "mm" constants).
-* ``epuck_driver``: exactly the real driver: linear and angular divided by 3, wheel =
-  (linear -+ 2.65 * angular) / 4 in revolutions/s, truncated to integer motor steps (1000 per
-  revolution) as the firmware receives them.
-
-In every convention the core then clamps to the motors' 1000 steps/s, keeping the curvature.
+"""Pure logic of the command topics: cmd_vel scalings (written once in
+:mod:`epuck_vrep_compat.compat.cmd_vel`, both ways, and re-exported here) and cmd_led semantics.
 """
-import math
-
+from epuck_vrep_compat.compat.cmd_vel import SCALINGS, wheel_speeds  # noqa: F401 (re-exported)
 from epuck_vrep_compat.ros.epuck.drivers import epuck2_leds
 from epuck_vrep_compat.epuck.leds import LED_COUNT
-
-SCALINGS = ("si", "vrep", "epuck_driver")
-_INPUT_LIMIT = 1.0e3     # |v|, |w| beyond this are clamped before any arithmetic (no overflow)
-
-
-def wheel_speeds(scaling: str, linear_x: float, angular_z: float, wheel_radius_m: float,
-                 wheel_separation_m: float):
-    """(left, right) wheel speeds [rad/s], or None when an input is not finite."""
-    if not (math.isfinite(linear_x) and math.isfinite(angular_z)):
-        return None
-    v = min(max(linear_x, -_INPUT_LIMIT), _INPUT_LIMIT)
-    w = min(max(angular_z, -_INPUT_LIMIT), _INPUT_LIMIT)
-    if scaling == "si":
-        half = 0.5 * wheel_separation_m
-        return (v - half * w) / wheel_radius_m, (v + half * w) / wheel_radius_m
-    if scaling == "vrep":
-        linear = v * 8.9
-        return (linear - 26.5 * w) / 40.0, (linear + 26.5 * w) / 40.0
-    if scaling == "epuck_driver":
-        linear, angular = v / 3.0, w / 3.0
-        steps = [int(((linear + sign * 2.65 * angular) / 4.0) * 1000.0) for sign in (-1.0, 1.0)]
-        return tuple(s * 2.0 * math.pi / 1000.0 for s in steps)
-    raise ValueError(f"unknown cmd_vel scaling '{scaling}'")
-
-
 
 
 def apply_led_command(profile: str, current, data):

@@ -6,6 +6,7 @@ from dataclasses import dataclass, fields
 from typing import Dict, Optional, Tuple
 
 from epuck_vrep_compat.compat import epuck_names
+from epuck_vrep_compat.compat.cmd_vel import PROFILE_SCALINGS
 from epuck_vrep_compat.compat.epuck_names import ProfileNames
 
 
@@ -62,7 +63,7 @@ VREP = TopicProfile.on(
     publishes_odometry=False,
     publishes_scan=False,
     has_gyro=True,
-    default_cmd_vel_scaling="vrep",     # epuck_vrep_ros.lua's formula; wheels keep their speed
+    default_cmd_vel_scaling=PROFILE_SCALINGS["vrep"],   # epuck_vrep_ros.lua's formula
 )
 
 EPUCK_DRIVER = TopicProfile.on(
@@ -74,7 +75,7 @@ EPUCK_DRIVER = TopicProfile.on(
     publishes_odometry=True,
     publishes_scan=True,
     has_gyro=False,        # the e-puck 1's driver has an accelerometer only
-    default_cmd_vel_scaling="epuck_driver",  # the driver's /3 and steps; the firmware keeps them
+    default_cmd_vel_scaling=PROFILE_SCALINGS["epuck_driver"],  # the driver's /3 and steps
     extras=("floor", "microphone", "motor_speed"),
     microphones=3,
     default_camera=(160, 2, "gray"),
@@ -90,7 +91,7 @@ EPUCK2_DRIVER = TopicProfile.on(
     publishes_odometry=True,
     publishes_scan=True,
     has_gyro=True,
-    default_cmd_vel_scaling="epuck_driver",
+    default_cmd_vel_scaling=PROFILE_SCALINGS["epuck2_driver"],
     extras=("imu", "dist_sens", "mag_field", "battery", "floor", "microphone", "rgb_leds"),
     microphones=4,
     default_camera=(160, 2, "gray"),

@@ -31,6 +31,9 @@ class SimParams:
     profile: str = "vrep"
     seed: int = SEED
     rtf: float = 1.0
+    vrep_realtime: bool = False         # V-REP's real-time switch (state bit 2); V-REP's default
+    speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
+    speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
     step_s: float = STEP_S
     paused: bool = False
     cmd_vel_scaling: str = "vrep"       # the profile's own (profiles.TopicProfile defaults)
@@ -63,6 +66,13 @@ def read_params(default_world: str) -> SimParams:
     p.n = len(p.robot_names)
     p.seed = _get("seed", SEED, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")
     p.rtf = _get("rtf", 1.0, float, lambda v: v >= 0.0, "must be >= 0 (0 = as fast as possible)")
+    p.vrep_realtime = _get("vrep_realtime", False, bool)
+    p.speed_scale_timeout_s = _get("speed_scale_timeout_s", 0.0, float,
+                                   lambda v: math.isfinite(v) and v >= 0.0,
+                                   "must be >= 0 s (0 = no watchdog)")
+    p.speed_scale_robots = _get("speed_scale_robots", [], list,
+                                lambda v: all(isinstance(r, str) and r for r in v),
+                                "must be a list of cell robot names ([] = every robot)")
     p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
     profile = PROFILES[p.profile]

@@ -89,12 +89,16 @@ class SimulatorNode:
         if self.sim.epuck2 is not None:      # the drivers' extra sensors, after the swarm's
             self.extras = ExtrasFace(profile, self.sim, self.sim.epuck2, params.accel_sign)
         models = ModelLibrary(models_dir) if models_dir else None
-        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.rtf == 1.0, models))
+        self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.vrep_realtime, models))
         self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
         if self.sim.cell is not None:
             from epuck_vrep_compat.ros.cell.face import CellFace
-            self.cell = CellFace(self.sim, self._tf_static)
+            watchdog = (params.speed_scale_timeout_s, params.speed_scale_robots or None)
+            try:
+                self.cell = CellFace(self.sim, self._tf_static, watchdog)
+            except ValueError as e:
+                raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
         self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]

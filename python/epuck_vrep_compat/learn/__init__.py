@@ -1,0 +1,25 @@
+"""Learning on the simulation: Gymnasium and PettingZoo environments on the core's batched
+worlds (a face on the simulation, like the ROS faces, that imports nothing of ROS). Importing
+this package registers the Gymnasium ids:
+
+* ``EpuckObstacleAvoidance-v0`` (Floreano and Mondada's fitness), ``EpuckAggregation-v0``,
+  ``EpuckFollowLeader-v0``: ``gymnasium.make(id)`` gives the single-robot ``EpuckEnv``,
+  ``gymnasium.make_vec(id, num_envs=B)`` the batched ``EpuckVectorEnv``.
+
+The swarm: ``epuck_vrep_compat.learn.parallel.EpuckParallelEnv(task=...)``, a PettingZoo
+``ParallelEnv``. Observations come from the policy package's builder, which ``policy_node``
+uses on the ROS topics (docs/learning.md).
+"""
+import gymnasium
+
+ENVIRONMENTS = {
+    "EpuckObstacleAvoidance-v0": "obstacle_avoidance",
+    "EpuckAggregation-v0": "aggregation",
+    "EpuckFollowLeader-v0": "follow_leader",
+}
+
+for _id, _task in ENVIRONMENTS.items():
+    if _id not in gymnasium.registry:
+        gymnasium.register(id=_id, entry_point="epuck_vrep_compat.learn.env:EpuckEnv",
+                           vector_entry_point="epuck_vrep_compat.learn.vector:EpuckVectorEnv",
+                           kwargs={"task": _task})

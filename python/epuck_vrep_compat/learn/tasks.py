@@ -1,0 +1,152 @@
+"""The learning tasks: each one's arena (walls and seeded obstacles), robots and their starting
+poses, which robots learn and which are scripted, the observation layout and the reward.
+
+* ``obstacle_avoidance``: a 1 m square walled arena with 6 cylinders (radius 2 to 5 cm) at
+  seeded random places each reset. Reward per robot and step, Floreano and Mondada's (1994)
+  fitness ``V (1 - sqrt(dv)) (1 - i)`` in [0, 1]: ``V = |w_l + w_r| / (2 w_max)`` the forward
+  speed, ``dv = |w_l - w_r| / (2 w_max)`` the turning, both from the wheels' actual speeds
+  (after the motors' clamp and slip), ``i`` the highest IR activation of the observation.
+* ``aggregation``: an open 1 m square, 5 robots; the observation adds the 3 nearest
+  neighbours within 1.5 m. Reward ``1 - min(1, mean distance to the other robots / 1 m)``.
+* ``follow_leader``: a 1 m square; robot 0 is a scripted leader (the Braitenberg avoider at
+  half speed), the learner follows it; the observation adds the nearest neighbour within
+  0.5 m. Reward ``exp(-((d - 0.15 m) / 0.1 m)^2)`` for the distance ``d`` to the leader, minus 1
+  on a step that ends in contact.
+
+In the single-robot environments the first learning robot is the agent and the others are
+scripted (the Braitenberg avoider, :func:`epuck_vrep_compat.policy.controller.braitenberg`);
+in the PettingZoo environment every robot but the leader is an agent.
+"""
+from dataclasses import dataclass
+from typing import List, Tuple
+
+import numpy as np
+
+from epuck_vrep_compat.policy.observation import ObservationLayout
+
+ARENA_SIDE_M = 1.0
+WALL_THICKNESS_M = 0.02
+WALL_HEIGHT_M = 0.05
+BODY_RADIUS_M = 0.037
+CLEARANCE_M = 0.02                  # between a robot's body and anything at the start
+FOLLOW_DISTANCE_M = 0.15
+FOLLOW_WIDTH_M = 0.1
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """An obstacle of the arena: centre (x, y) and radius [m], standing on the floor."""
+
+    x: float
+    y: float
+    radius: float
+    height: float = WALL_HEIGHT_M
+
+
+@dataclass(frozen=True)
+class Task:
+    """One learning task (see the module's docstring)."""
+
+    name: str
+    robots: int
+    layout: ObservationLayout
+    cylinders: Tuple[int, int] = (0, 0)     # obstacles per reset: (count, 0) or none
+    leader: bool = False                    # robot 0 scripted, the others follow it
+
+    def learners(self) -> List[int]:
+        """The robots (of a world) that learn: every one but a leader."""
+        return list(range(1 if self.leader else 0, self.robots))
+
+    def walls(self):
+        """The four walls as (centre (3,), half extents (3,), yaw) around the square."""
+        half, t, h = 0.5 * ARENA_SIDE_M, WALL_THICKNESS_M, WALL_HEIGHT_M
+        long_wall = (half + t, 0.5 * t, 0.5 * h)
+        side_wall = (0.5 * t, half, 0.5 * h)
+        return [((0.0, half + 0.5 * t, 0.5 * h), long_wall, 0.0),
+                ((0.0, -half - 0.5 * t, 0.5 * h), long_wall, 0.0),
+                ((half + 0.5 * t, 0.0, 0.5 * h), side_wall, 0.0),
+                ((-half - 0.5 * t, 0.0, 0.5 * h), side_wall, 0.0)]
+
+    def arena(self, rng: np.random.Generator):
+        """(cylinders, robot poses (R, 3)) for one reset, drawn from ``rng``."""
+        cylinders, poses = [], np.zeros((self.robots, 3))
+        for _ in range(self.cylinders[0]):
+            radius = float(rng.uniform(0.02, 0.05))
+            x, y = _free_spot(rng, radius, cylinders, poses[:0])
+            cylinders.append(Cylinder(x, y, radius))
+        for r in range(self.robots):
+            if self.leader and r == 1:
+                poses[1] = _behind(poses[0], cylinders)
+                continue
+            poses[r, :2] = _free_spot(rng, BODY_RADIUS_M, cylinders, poses[:r])
+            poses[r, 2] = rng.uniform(-np.pi, np.pi)
+        return cylinders, poses
+
+    def rewards(self, wheels_rad_s, max_wheel_rad_s, observations, poses, contact):
+        """(B, R) rewards of every world's robots after a step: wheels (B, R, 2) rad/s,
+        observations (B, R, D), poses (B, R, 3), contact (B, R) bool."""
+        if self.name == "obstacle_avoidance":
+            return floreano_fitness(wheels_rad_s, max_wheel_rad_s, observations[..., :8])
+        xy = poses[..., :2]
+        distances = np.linalg.norm(xy[:, :, None, :] - xy[:, None, :, :], axis=-1)
+        if self.name == "aggregation":
+            mean = distances.sum(axis=-1) / max(self.robots - 1, 1)
+            return 1.0 - np.minimum(1.0, mean / ARENA_SIDE_M)
+        d = distances[..., 0]
+        return (np.exp(-np.square((d - FOLLOW_DISTANCE_M) / FOLLOW_WIDTH_M))
+                - contact.astype(float))
+
+
+def floreano_fitness(wheels_rad_s, max_wheel_rad_s, ir_activation) -> np.ndarray:
+    """Floreano and Mondada's (1994) ``V (1 - sqrt(dv)) (1 - i)`` per robot: wheels
+    (..., 2) rad/s, IR activations (..., 8) -> (...)."""
+    w = np.clip(np.asarray(wheels_rad_s, float) / max_wheel_rad_s, -1.0, 1.0)
+    v = 0.5 * np.abs(w[..., 0] + w[..., 1])
+    dv = 0.5 * np.abs(w[..., 0] - w[..., 1])
+    i = np.max(ir_activation, axis=-1)
+    return v * (1.0 - np.sqrt(dv)) * (1.0 - i)
+
+
+def _free_spot(rng, radius, cylinders, poses):
+    """A centre in the square at which a disc of ``radius`` clears the walls, the cylinders and
+    the robots so far by CLEARANCE_M."""
+    limit = 0.5 * ARENA_SIDE_M - radius - CLEARANCE_M
+    for _ in range(1000):
+        x, y = rng.uniform(-limit, limit, size=2)
+        if all(np.hypot(x - c.x, y - c.y) > radius + c.radius + 2 * BODY_RADIUS_M + CLEARANCE_M
+               for c in cylinders) and \
+                all(np.hypot(x - p[0], y - p[1]) > radius + BODY_RADIUS_M + CLEARANCE_M
+                    for p in poses):
+            return float(x), float(y)
+    raise RuntimeError("no free spot in the arena after 1000 draws")
+
+
+def _behind(leader_pose, cylinders):
+    """The follower's start: FOLLOW_DISTANCE_M behind the leader, facing it, inside the square
+    (the follow task's arena has no obstacles)."""
+    x, y, yaw = leader_pose
+    limit = 0.5 * ARENA_SIDE_M - BODY_RADIUS_M - CLEARANCE_M
+    fx = float(np.clip(x - FOLLOW_DISTANCE_M * np.cos(yaw), -limit, limit))
+    fy = float(np.clip(y - FOLLOW_DISTANCE_M * np.sin(yaw), -limit, limit))
+    return fx, fy, float(np.arctan2(y - fy, x - fx))
+
+
+TASKS = {
+    "obstacle_avoidance": lambda robots=1, imu=False: Task(
+        "obstacle_avoidance", robots, ObservationLayout(imu=imu), cylinders=(6, 0)),
+    "aggregation": lambda robots=5, imu=False: Task(
+        "aggregation", robots, ObservationLayout(imu=imu, neighbours=3, neighbour_range_m=1.5)),
+    "follow_leader": lambda robots=2, imu=False: Task(
+        "follow_leader", robots, ObservationLayout(imu=imu, neighbours=1,
+                                                   neighbour_range_m=0.5), leader=True),
+}
+
+
+def make_task(name: str, robots=None, imu: bool = False) -> Task:
+    """The task ``name`` (a key of TASKS) with ``robots`` robots (its default when None)."""
+    if name not in TASKS:
+        raise ValueError(f"task must be one of {sorted(TASKS)}, got {name!r}")
+    task = TASKS[name](imu=imu) if robots is None else TASKS[name](robots=robots, imu=imu)
+    if task.robots < (2 if task.leader or name == "aggregation" else 1):
+        raise ValueError(f"task {name} needs more robots, got {task.robots}")
+    return task

@@ -1,0 +1,112 @@
+"""The observation vector of a controller, built from readings in the units the ROS topics
+carry them, the same for the three topic profiles and for the learning environments.
+
+Layout (:class:`ObservationLayout`; every block in this order, each value float64):
+
+* ``ir0..ir7`` (always): each proximity sensor's activation
+  ``clip((0.05 - range_m) / (0.05 - 0.005), 0, 1)``: 0 when nothing is within 5 cm, 1 at 5 mm
+  or nearer. 5 mm is the drivers' ``min_range`` (the ``vrep`` profile's is 1.5 mm) and 5 cm
+  every profile's ``max_range``, so a ``sensor_msgs/Range`` of any profile, clipped to its own
+  limits, and the core's reading in metres give the same activation.
+* ``accel_x, accel_y, accel_z, gyro_x, gyro_y, gyro_z`` (``imu=True``): the body-frame specific
+  force in units of g (9.81 m/s²: +1 on z at rest, as every profile publishes it) and the
+  angular velocity in units of 5 rad/s (the e-puck turns at most 4.7 rad/s in place); each
+  clipped to [-4, 4]. The ``epuck_driver`` profile (the e-puck 1) has no gyroscope: its three
+  gyro values are 0 there.
+* ``nbK_near, nbK_cos, nbK_sin`` for K < ``neighbours``: the K-th nearest other robot within
+  ``neighbour_range_m`` (centre to centre), nearest first: ``1 - distance / neighbour_range_m``
+  and the cosine and sine of its bearing in the robot's frame (0 ahead, + to the left); all
+  three 0 for a slot with no robot in range.
+"""
+from dataclasses import asdict, dataclass
+from typing import List, Optional
+
+import numpy as np
+
+IR_COUNT = 8
+IR_MAX_RANGE_M = 0.05            # every profile's max_range: nothing seen
+IR_MIN_RANGE_M = 0.005           # the drivers' min_range: full activation from here in
+ACCEL_UNIT_M_S2 = 9.81
+GYRO_UNIT_RAD_S = 5.0
+IMU_CLIP = 4.0
+IMU_NAMES = ("accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z")
+
+
+@dataclass(frozen=True)
+class ObservationLayout:
+    """Which blocks an observation holds (see the module's docstring for each value)."""
+
+    imu: bool = False
+    neighbours: int = 0
+    neighbour_range_m: float = 0.5
+
+    def __post_init__(self):
+        if self.neighbours < 0 or not self.neighbour_range_m > 0.0:
+            raise ValueError(f"neighbours must be >= 0 and neighbour_range_m > 0, got "
+                             f"{self.neighbours}, {self.neighbour_range_m}")
+
+    @property
+    def names(self) -> List[str]:
+        """The name of every value, in order."""
+        names = [f"ir{k}" for k in range(IR_COUNT)]
+        if self.imu:
+            names += list(IMU_NAMES)
+        for k in range(self.neighbours):
+            names += [f"nb{k}_near", f"nb{k}_cos", f"nb{k}_sin"]
+        return names
+
+    @property
+    def size(self) -> int:
+        return IR_COUNT + (len(IMU_NAMES) if self.imu else 0) + 3 * self.neighbours
+
+    def bounds(self):
+        """(low, high) of every value: for a Box space."""
+        low = np.zeros(self.size)
+        high = np.ones(self.size)
+        if self.imu:
+            low[IR_COUNT:IR_COUNT + 6], high[IR_COUNT:IR_COUNT + 6] = -IMU_CLIP, IMU_CLIP
+        start = IR_COUNT + (6 if self.imu else 0)
+        for k in range(self.neighbours):
+            low[start + 3 * k + 1:start + 3 * k + 3] = -1.0
+        return low, high
+
+    def to_dict(self) -> dict:
+        return dict(asdict(self), names=self.names)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "ObservationLayout":
+        layout = cls(imu=bool(data.get("imu", False)), neighbours=int(data.get("neighbours", 0)),
+                     neighbour_range_m=float(data.get("neighbour_range_m", 0.5)))
+        if "names" in data and list(data["names"]) != layout.names:
+            raise ValueError(f"observation names {list(data['names'])} do not match the "
+                             f"layout's {layout.names}")
+        return layout
+
+
+def ir_activation(ranges_m) -> np.ndarray:
+    """(..., 8) ranges [m] -> activations in [0, 1] (non-finite: nothing seen, 0)."""
+    r = np.asarray(ranges_m, dtype=float)
+    r = np.where(np.isfinite(r), r, IR_MAX_RANGE_M)
+    return np.clip((IR_MAX_RANGE_M - r) / (IR_MAX_RANGE_M - IR_MIN_RANGE_M), 0.0, 1.0)
+
+
+def build(layout: ObservationLayout, ranges_m, accel_m_s2=None, gyro_rad_s=None,
+          neighbours: Optional[np.ndarray] = None) -> np.ndarray:
+    """The observation (..., layout.size) from the readings of one robot (or a batch):
+    ``ranges_m`` (..., 8); with ``layout.imu`` ``accel_m_s2`` and ``gyro_rad_s`` (..., 3);
+    with ``layout.neighbours`` the block ``neighbours`` (..., 3 K) from
+    :func:`epuck_vrep_compat.policy.neighbours.block`."""
+    parts = [ir_activation(ranges_m)]
+    lead = parts[0].shape[:-1]
+    if layout.imu:
+        if accel_m_s2 is None or gyro_rad_s is None:
+            raise ValueError("this layout has the IMU block: accel and gyro are needed")
+        imu = np.concatenate([np.asarray(accel_m_s2, float) / ACCEL_UNIT_M_S2,
+                              np.asarray(gyro_rad_s, float) / GYRO_UNIT_RAD_S], axis=-1)
+        parts.append(np.clip(np.broadcast_to(imu, lead + (6,)), -IMU_CLIP, IMU_CLIP))
+    if layout.neighbours:
+        if neighbours is None:
+            raise ValueError("this layout has the neighbours block: neighbours are needed")
+        parts.append(np.broadcast_to(np.asarray(neighbours, float),
+                                     lead + (3 * layout.neighbours,)))
+    return np.concatenate(parts, axis=-1)
