@@ -211,7 +211,10 @@ class EpuckFace(Face):
                                         gyro=gyro)
         if kind == "ground_truth":
             poses, velocities = swarm.poses, swarm.velocities
-            yaw = poses[:, 2]
+            # contiguous: numpy 1.24 takes its vector cos/sin for a strided column only when
+            # the result happens to lie far enough from it in memory (libm's otherwise, 1 ulp
+            # apart), which made identical runs' forward speeds differ in the last bit
+            yaw = np.ascontiguousarray(poses[:, 2])
             forward = velocities[:, 0] * np.cos(yaw) + velocities[:, 1] * np.sin(yaw)
             return self._odom_batch.pack_view(secs, nsecs, **wire.planar_odometry_values(
                 poses[:, 0], poses[:, 1], yaw, forward, velocities[:, 2]))
