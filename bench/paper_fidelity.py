@@ -31,11 +31,12 @@ def run(world, speed_m_s, readings, seed):
                            SimulationConfig(["ePuck0"], seed=seed))
     accel, prox = [], []
     for i in range(readings + 10):
-        sim.set_wheel_speeds("ePuck0", speed_m_s / WHEEL_RADIUS_M, speed_m_s / WHEEL_RADIUS_M)
+        wheel_rad_s = speed_m_s / WHEEL_RADIUS_M
+        sim.epucks.set_wheel_speeds("ePuck0", wheel_rad_s, wheel_rad_s)
         sim.step()
         if i >= 10:
-            accel.append(sim.swarm.accel[0].copy())
-            prox.append(sim.swarm.ranges[0, 0])
+            accel.append(sim.epucks.swarm.accel[0].copy())
+            prox.append(sim.epucks.swarm.ranges[0, 0])
     return np.array(accel), np.array(prox)
 
 

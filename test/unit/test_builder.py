@@ -9,7 +9,7 @@ from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.builder.streams import (
     CELL_KINECT, CELL_LASER, EPUCK2_MAGNETOMETER, EPUCK2_TOF, stream_seed)
 from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
-from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
+from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
 from epuck_vrep_compat.sim.simulation import Simulation
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -31,14 +31,23 @@ def test_every_stream_has_its_own_seed_for_every_seed():
 def test_the_builder_adds_the_extensions_the_scene_and_the_config_ask_for():
     arena = load_scene(os.path.join(REPO, "worlds", "arena.yaml"))
     plain = build_simulation(arena, SimulationConfig(["ePuck0"]))
-    assert plain.cell is None and plain.epuck2 is None and plain.extensions == []
+    assert plain.cell is None and plain.epuck2 is None and plain.extensions == [plain.epucks]
+    assert plain.epucks.robot_names == ["ePuck0"]
     sim = build_simulation(arena, SimulationConfig(["ePuck0"], seed=5, epuck2=Epuck2Settings()))
-    assert sim.extensions == [sim.epuck2]
+    assert sim.extensions == [sim.epucks, sim.epuck2]
+    cell = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")),
+                            SimulationConfig(epuck2=Epuck2Settings()))
+    assert cell.extensions == [cell.epucks, cell.cell, cell.epuck2]     # the order they step
+    cell.cell.close()
     assert (sim.epuck2.tof_seed, sim.epuck2.mag_seed) == (
         stream_seed(5, EPUCK2_TOF), stream_seed(5, EPUCK2_MAGNETOMETER))
 
 
-def test_the_simulation_alone_refuses_a_scene_with_a_cell():
+def test_the_simulation_alone_refuses_a_scene_with_a_cell_or_robots():
     scene = load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml"))
     with pytest.raises(SceneError, match="'cell' section.*build_simulation"):
-        Simulation(scene, [])
+        Simulation(scene)
+    robots = parse_scene({"robots": [{"position_m": [0.0, 0.0]}]})
+    with pytest.raises(SceneError, match="'robots' section.*e-pucks'.*build_simulation"):
+        Simulation(robots)
+    assert Simulation(parse_scene({})).extensions == []          # the world alone: no robots

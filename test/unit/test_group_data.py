@@ -115,7 +115,7 @@ def test_joint_state_and_velocities_follow_the_motion(backend):
     handles, _, linear, _ = group_data(backend, vc.OBJECT_SHAPE, 17)
     base = handles.index(handle(backend, "ePuck"))
     speed = np.hypot(*linear[3 * base:3 * base + 2])
-    assert speed == pytest.approx(4.0 * backend.sim.model.wheel_radius_m, rel=0.05)
+    assert speed == pytest.approx(4.0 * backend.sim.epucks.model.wheel_radius_m, rel=0.05)
     _, _, twist, _ = group_data(backend, vc.OBJECT_SHAPE, 19)
     _, _, angular, _ = group_data(backend, vc.OBJECT_SHAPE, 18)
     assert twist[6 * base:6 * base + 3] == linear[3 * base:3 * base + 3]

@@ -76,9 +76,9 @@ def faces(monkeypatch):
         monkeypatch.setattr(cls, method, lambda self, *a, _o=original, _k=kind, **kw:
                             (work.append(_k), _o(self, *a, **kw))[1])
 
-    def render(simulation, robot_names, *args, **kwargs):
+    def render(epuck_robots, robot_names, *args, **kwargs):
         work.append(("render", tuple(robot_names)))
-        return render_robot_cameras(simulation, robot_names, *args, **kwargs)
+        return render_robot_cameras(epuck_robots, robot_names, *args, **kwargs)
     monkeypatch.setattr(camera_module, "render_robot_cameras", render)
     epucks = EpuckFace(PROFILE, sim, "si", "ros", True)
     tf = TfFace(PROFILE, sim, StaticTransforms(Ignored()))
@@ -114,12 +114,12 @@ def test_one_subscriber_gets_only_its_topics_work(faces):
     sim, (epucks, tf, cameras), work, tf_pub = faces
     ranges = Subscriber("/ranges")
     epucks.robots[1].ranges[2].impl.add_connection(ranges)
-    camera = cameras._cameras[sim.robot_names[0]]
+    camera = cameras._cameras[sim.epucks.robot_names[0]]
     camera.image.impl.add_connection(Subscriber("/viewer"))
     batch = step_once(sim, (epucks, tf, cameras), tf_pub)
     # the ranges of all robots packed once (one array op), one camera rendered, no /tf
-    assert sorted(work, key=str) == sorted(["MessageBatch", ("render", (sim.robot_names[0],))],
-                                           key=str)
+    first = sim.epucks.robot_names[0]
+    assert sorted(work, key=str) == sorted(["MessageBatch", ("render", (first,))], key=str)
     # both go out through the step batch (the camera's image too, off the interpreter); the
     # ranges as slices of their packed step, straight to the writer
     assert set(batch._pending) == {camera.image.impl}
@@ -128,6 +128,6 @@ def test_one_subscriber_gets_only_its_topics_work(faces):
     (size,) = struct.unpack("<I", frame[:4])
     assert size == len(frame) - 4
     msg = Range().deserialize(frame[4:])
-    assert msg.header.frame_id == PROFILE.frame(sim.robot_names[1], "base_prox2")
-    assert msg.range == pytest.approx(min(max(sim.swarm.ranges[1, 2], msg.min_range),
+    assert msg.header.frame_id == PROFILE.frame(sim.epucks.robot_names[1], "base_prox2")
+    assert msg.range == pytest.approx(min(max(sim.epucks.swarm.ranges[1, 2], msg.min_range),
                                           msg.max_range))

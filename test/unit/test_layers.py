@@ -25,10 +25,9 @@ LAYERS = (
     ("compat", "geometry"),             # names and codes once; pure geometry: no ROS, no core
     ("policy",),                        # observation builder, shipped controller: numpy only
     ("scene",),                         # scene and model files, registry, placement
-    ("devices",),                       # components and extensions' interfaces, every family's
-    ("epuck",),                         # the e-puck family (below sim: Simulation holds the swarm)
-    ("sim",),                           # the simulation and its extension interface
-    ("cell",),                          # the industrial cell and its devices, an extension
+    ("devices",),                       # the components' interface, every family's
+    ("sim",),                           # the world (no robot family) and its extension interface
+    ("epuck", "cell"),                  # the robot families, extensions: never import each other
     ("builder",),                       # one simulation from a scene and a config, every extension
     ("vrep",),                          # V-REP's API on the simulation, ROS-free
     ("ros", "learn"),                   # the faces: ROS (the node) and learning (no ROS)

@@ -102,4 +102,4 @@ def test_a_big_model_file_is_refused_before_it_is_parsed(tmp_path):
     backend = make_backend("arena.yaml", [])
     with pytest.raises(VrepError, match="at most"):
         backend.read_model(str(path))
-    assert backend.sim.size == 0
+    assert backend.sim.epucks.size == 0

@@ -55,7 +55,7 @@ def test_epuck_fixed_frames_are_static_and_only_moving_ones_per_step(profile, ex
     face = TfFace(PROFILES[profile], sim, StaticTransforms(topic))
     frame = PROFILES[profile].frame
     fixed = [f"base_prox{k}" for k in range(8)] + ["body_top", "camera_optical"] + extra
-    for robot in sim.robot_names:
+    for robot in sim.epucks.robot_names:
         base = frame(robot, "base_link")
         assert {(base, frame(robot, c)) for c in fixed} <= set(topic.children())
         assert {("odom", base), (base, frame(robot, "left_wheel")),
@@ -66,7 +66,7 @@ def test_epuck_fixed_frames_are_static_and_only_moving_ones_per_step(profile, ex
     assert message is not None
     face.sync()                                    # nothing changed: nothing re-sent
     assert len(topic.messages) == 1
-    sim.remove_robot(sim.robot_names[0])
+    sim.epucks.remove_robot(sim.epucks.robot_names[0])
     face.sync()
     assert len(topic.messages) == 2 and len(topic.children()) == len(fixed)
 

@@ -99,7 +99,7 @@ def test_copy_paste_refuses_anything_but_robot_bases(backend, what):
         backend.copy_paste([backend.object_handle("ePuck#0"), handle])
     with pytest.raises(VrepError, match="does not exist"):
         backend.copy_paste([99999])
-    assert len(backend.sim.registry) == count and backend.sim.size == 2
+    assert len(backend.sim.registry) == count and backend.sim.epucks.size == 2
 
 
 def test_remove_object_takes_robots_whole_and_static_objects_out(backend):
@@ -113,4 +113,4 @@ def test_remove_object_takes_robots_whole_and_static_objects_out(backend):
     box = backend.object_handle("cylinder0")
     assert backend.remove_object(box) == [box]
     assert not backend.sim.world.has(box)
-    assert backend.sim.robot_names == ["ePuck0"]
+    assert backend.sim.epucks.robot_names == ["ePuck0"]

@@ -354,7 +354,7 @@ def test_a_stream_whose_target_goes_ends(vrep):
 
 def test_streams_on_a_removed_robot_end_and_the_step_goes_on(vrep):
     backend, streams, wiring = vrep
-    parts = backend.sim.add_robot()                      # as simRosLoadModel does
+    parts = backend.sim.epucks.add_robot()                      # as simRosLoadModel does
     joint, sensor = parts.handle("leftJoint"), parts.handle("proxSensor0")
     streams.enable_publisher(pub_req("js", vc.STRMCMD_GET_JOINT_STATE, joint))
     streams.enable_publisher(pub_req("pose", vc.STRMCMD_GET_OBJECT_POSE, parts.root.handle, -1))
@@ -396,15 +396,15 @@ def test_subscribers(vrep):
     msg = JointSetStateData()
     msg.handles.data, msg.setModes.data, msg.values.data = [left, right], [2, 2], [1.5, -1.0]
     wheels.deliver(msg)
-    np.testing.assert_allclose(backend.sim.command.wheel_rad_s[0], [1.5, -1.0])
+    np.testing.assert_allclose(backend.sim.epucks.command.wheel_rad_s[0], [1.5, -1.0])
     msg.values.data = [math.nan, 1.0]
     wheels.deliver(msg)
     msg.values.data = [1.0]
     wheels.deliver(msg)
-    np.testing.assert_allclose(backend.sim.command.wheel_rad_s[0], [1.5, -1.0])
+    np.testing.assert_allclose(backend.sim.epucks.command.wheel_rad_s[0], [1.5, -1.0])
     assert len(backend.errors.take()) == 2
     velocity.deliver(Float64(0.5))
-    assert backend.sim.command.wheel_rad_s[0, 1] == 0.5
+    assert backend.sim.epucks.command.wheel_rad_s[0, 1] == 0.5
     signal.deliver(Int32(7))
     assert backend.signal("int", "k") == 7
     clear.deliver(UInt8(0))
@@ -420,7 +420,7 @@ def test_subscribers(vrep):
     assert not wheels.registered
     msg.values.data = [3.0, 3.0]
     wheels.deliver(msg)                                  # rospy may still deliver one: ignored
-    np.testing.assert_allclose(backend.sim.command.wheel_rad_s[0], [1.5, 0.5])
+    np.testing.assert_allclose(backend.sim.epucks.command.wheel_rad_s[0], [1.5, 0.5])
     backend.control.stop()
     assert not any(s.registered for s in wiring.subscribers)
     backend.control.start()

@@ -2,9 +2,10 @@
 scene and the config ask for, each seeded from the one seed by name (:mod:`.streams`).
 
 The simulator node, the tests and the benchmarks build every simulation here. In the order
-they step after the e-pucks: the scene's industrial cell (when it has a ``cell:`` section;
-pybullet is loaded only then), then the e-puck2's extra sensors (when the config has their
-settings: a profile with extra topics), which thus see the cell's links where they are.
+they step: the e-pucks (always; none when the config names no robot), the scene's industrial
+cell (when it has a ``cell:`` section; pybullet is loaded only then), then the e-puck2's extra
+sensors (when the config has their settings: a profile with extra topics), which thus see the
+e-pucks and the cell's links where they are.
 """
 from dataclasses import dataclass
 from typing import Callable, FrozenSet, Optional, Sequence
@@ -14,20 +15,22 @@ from epuck_vrep_compat.builder.streams import (
 from epuck_vrep_compat.devices.components import CameraSpec
 from epuck_vrep_compat.epuck.epuck2_sensors import READINGS, Epuck2Sensors, Epuck2Settings
 from epuck_vrep_compat.epuck.noise import NoiseSettings
+from epuck_vrep_compat.epuck.swarm import CMD_TIMEOUT_S, EpuckRobots
 from epuck_vrep_compat.scene.scene_file import Scene
-from epuck_vrep_compat.sim.simulation import Simulation
+from epuck_vrep_compat.sim.simulation import SEED, STEP_S, Simulation
 
 
 @dataclass
 class SimulationConfig:
-    """Everything a simulation is built with besides its scene (the node's parameters); the
-    first seven are :class:`Simulation`'s arguments, under the same names."""
+    """Everything a simulation is built with besides its scene (the node's parameters): the
+    first seven are the arguments of :class:`Simulation` (``step_s``, ``seed``) and of
+    :class:`EpuckRobots` (the others), under the same names and with their defaults."""
 
     robot_names: Sequence[str] = ()
-    step_s: float = 0.05
-    seed: int = 0
+    step_s: float = STEP_S
+    seed: int = SEED
     noise: Optional[NoiseSettings] = None           # None: the paper's real robot
-    cmd_timeout_s: float = 1.0
+    cmd_timeout_s: float = CMD_TIMEOUT_S
     camera: Optional[CameraSpec] = None             # None: the e-puck's camera
     robot_namer: Optional[Callable[[int], str]] = None   # None: V-REP's ePuck<k>
     epuck2: Optional[Epuck2Settings] = None         # the e-puck2's extra sensors; None: none
@@ -35,13 +38,16 @@ class SimulationConfig:
 
 
 def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulation:
-    """The simulation of ``scene``. Its ``cell`` attribute is the scene's
+    """The simulation of ``scene``. Its ``epucks`` attribute is the
+    :class:`~epuck_vrep_compat.epuck.swarm.EpuckRobots`, its ``cell`` attribute the scene's
     :class:`~epuck_vrep_compat.cell.cell.Cell` (or None), its ``epuck2`` attribute the
     :class:`~epuck_vrep_compat.epuck.epuck2_sensors.Epuck2Sensors` (or None), each added to the
     simulation's extensions. SceneError when the scene's robots find no place."""
     c = config if config is not None else SimulationConfig()
-    sim = Simulation(scene, c.robot_names, c.step_s, c.seed, c.noise, c.cmd_timeout_s, c.camera,
-                     c.robot_namer, extended_sections=("cell",))
+    sim = Simulation(scene, c.step_s, c.seed, extended_sections=("robots", "cell"))
+    sim.epucks = EpuckRobots(sim, c.seed, c.robot_names, c.noise, c.cmd_timeout_s, c.camera,
+                             c.robot_namer)
+    sim.add_extension(sim.epucks)
     sim.cell = None
     if scene.cell is not None:
         from epuck_vrep_compat.cell.cell import Cell     # pybullet only when a cell is used
@@ -50,7 +56,7 @@ def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulatio
         sim.add_extension(sim.cell)
     sim.epuck2 = None
     if c.epuck2 is not None:
-        sim.epuck2 = Epuck2Sensors(sim, c.epuck2, stream_seed(c.seed, EPUCK2_TOF),
+        sim.epuck2 = Epuck2Sensors(sim.epucks, c.epuck2, stream_seed(c.seed, EPUCK2_TOF),
                                    stream_seed(c.seed, EPUCK2_MAGNETOMETER), scene.floor_regions,
                                    scene.arena.floor_color, readings=c.epuck2_readings)
         sim.add_extension(sim.epuck2)

@@ -22,7 +22,7 @@ from epuck_vrep_compat.cell.devices.operator import add_operator
 from epuck_vrep_compat.cell.devices.ray_proximity import RayProximityBank
 from epuck_vrep_compat.cell.loaded_models import load_cell_robot
 from epuck_vrep_compat.cell.speed_watchdog import SpeedScaleWatchdog
-from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.geometry.transforms import yaw_of
 
 

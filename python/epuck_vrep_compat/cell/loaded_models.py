@@ -2,10 +2,13 @@
 youBot model file): a working URDF robot with its joints, sensors-free, no default script,
 named as V-REP names a pasted copy when the name is taken: the base ``IRB140#0`` and every
 joint and link with the same suffix (``IRB140_joint1#0``)."""
+from collections import namedtuple
+
 from epuck_vrep_compat.cell.devices.articulated import ArticulatedRobot
 from epuck_vrep_compat.scene.cell_file import ArmSpec
 
 LOADED_COLOR = (0.7, 0.7, 0.75)
+LoadedRobot = namedtuple("LoadedRobot", "root")    # a cell robot loaded: its base object
 
 
 def copy_name(registry, name):
@@ -20,7 +23,7 @@ def copy_name(registry, name):
 
 
 def load_cell_robot(cell, model):
-    """Builds the model file's robot into the cell; returns its base object."""
+    """Builds the model file's robot into the cell; returns it (a :data:`LoadedRobot`)."""
     registry = cell.sim.registry
     name, suffix = copy_name(registry, model.name)
     spec = ArmSpec(name=name, urdf=model.urdf,
@@ -29,4 +32,4 @@ def load_cell_robot(cell, model):
                    color=LOADED_COLOR)
     arm = ArticulatedRobot(cell.client, spec, registry, suffix)
     cell.add_arm(arm)
-    return arm.objects[arm.chain.root]
+    return LoadedRobot(arm.objects[arm.chain.root])

@@ -1,7 +1,5 @@
-"""epuck layer of epuck_vrep_compat: the e-puck robot family: its components (wheel joints, IR
-cones: :mod:`.components`), LEDs, cameras rendered together, noise settings, presets and the
-paper's numbers, and the e-puck2's extra sensors (an extension, :mod:`.epuck2_sensors`).
-
-Below ``sim`` while :class:`~epuck_vrep_compat.sim.simulation.Simulation` still holds the
-swarm itself (issue 23); once the swarm is an extension, as the cell is, it moves up beside
-``cell``."""
+"""epuck layer of epuck_vrep_compat: the e-puck robot family, beside the cell: the swarm as an
+extension of the simulation (:mod:`.swarm`: robots, commands and watchdog, LEDs, noise), its
+components (wheel joints, IR cones: :mod:`.components`), LEDs, cameras rendered together, noise
+settings, presets and the paper's numbers, and the e-puck2's extra sensors (an extension,
+:mod:`.epuck2_sensors`)."""

@@ -3,7 +3,7 @@
 A camera rendered alone (``VisionSensor.render``) composes its pose along the registry's parent
 chain in Python; a step at 1000 robots renders some 200 of them. Here their poses are composed
 for all robots at once, in the same arithmetic, from the swarm's poses and each camera's mount
-on its robot (a robot's parts are rigid: ``Simulation.move_object`` refuses to move one), and
+on its robot (a robot's parts are rigid: ``EpuckRobots.move_object`` refuses to move one), and
 the images are drawn in one core call without the interpreter lock.
 """
 from typing import Sequence
@@ -14,20 +14,21 @@ from epuck_vrep_compat.devices.components import VISION_TO_CAMERA
 from epuck_vrep_compat.geometry.transforms import compose, quat_from_yaw, quat_mul
 
 
-def render_robot_cameras(sim, names: Sequence[str], threads: int = 1) -> np.ndarray:
-    """The colour images (K, H, W, 3) uint8 of the named robots' cameras of ``sim`` (a
-    ``Simulation``), each equal to its ``VisionSensor.render``, on up to ``threads`` threads."""
-    spec = sim.camera
+def render_robot_cameras(epucks, names: Sequence[str], threads: int = 1) -> np.ndarray:
+    """The colour images (K, H, W, 3) uint8 of the named robots' cameras of ``epucks`` (the
+    ``EpuckRobots``), each equal to its ``VisionSensor.render``, on up to ``threads`` threads."""
+    spec = epucks.camera
     if not names:
         return np.zeros((0, spec.height, spec.width, 3), np.uint8)
-    rows = [sim.robot_index(n) for n in names]
-    mounts = [sim.robots[r].parts["camera"] for r in rows]
-    x, y, yaw = sim.swarm.poses[rows].T
+    rows = [epucks.robot_index(n) for n in names]
+    mounts = [epucks.robots[r].parts["camera"] for r in rows]
+    x, y, yaw = epucks.swarm.poses[rows].T
     root_position = np.column_stack((x, y, np.zeros(len(rows))))
     position, quat = compose(root_position, quat_from_yaw(yaw),
                              np.array([m.local_position for m in mounts]),
                              np.array([m.local_quat for m in mounts]))
     ignore = [m.properties["vision"].ignore_handle for m in mounts]
-    return sim.world.render_rgb_batch(position, quat_mul(quat, VISION_TO_CAMERA), spec.width,
-                                      spec.height, spec.vertical_fov_rad, spec.near_m,
-                                      spec.far_m, ignore, threads=threads)
+    world = epucks.sim.world
+    return world.render_rgb_batch(position, quat_mul(quat, VISION_TO_CAMERA), spec.width,
+                                  spec.height, spec.vertical_fov_rad, spec.near_m, spec.far_m,
+                                  ignore, threads=threads)

@@ -22,19 +22,19 @@ class WheelJoint:
     range_min = -math.pi
     range_span = -1.0          # V-REP's "cyclic" marker
 
-    def __init__(self, sim, robot_name: str, column: int):
-        self._sim = sim
+    def __init__(self, epucks, robot_name: str, column: int):
+        self._epucks = epucks       # the EpuckRobots
         self._robot = robot_name
         self._column = column
         self.max_force = 0.0
 
     def position(self) -> float:
-        row = self._sim.robot_index(self._robot)
-        return wrap_angle(float(self._sim.swarm.wheel_angles[row, self._column]))
+        row = self._epucks.robot_index(self._robot)
+        return wrap_angle(float(self._epucks.swarm.wheel_angles[row, self._column]))
 
     def velocity(self) -> float:
-        return float(self._sim.swarm.wheel_speeds[self._sim.robot_index(self._robot),
-                                                  self._column])
+        return float(self._epucks.swarm.wheel_speeds[self._epucks.robot_index(self._robot),
+                                                     self._column])
 
     def effort(self) -> float:
         return 0.0              # kinematic drive: no torque is computed
@@ -42,7 +42,7 @@ class WheelJoint:
     def set_target_velocity(self, value: float):
         if not math.isfinite(value):
             raise ComponentError(f"target velocity {value} is not finite")
-        self._sim.set_wheel_speed(self._robot, self._column, value)
+        self._epucks.set_wheel_speed(self._robot, self._column, value)
 
     def set_position(self, value: float):
         raise ComponentError("a wheel joint is driven by velocity; its position cannot be set")
@@ -61,18 +61,18 @@ class ConeProximity:
 
     subtype = vc.PROXSENSOR_CONE
 
-    def __init__(self, sim, robot_name: str, sensor_index: int):
-        self._sim = sim
+    def __init__(self, epucks, robot_name: str, sensor_index: int):
+        self._epucks = epucks       # the EpuckRobots
         self._robot = robot_name
         self._sensor = sensor_index
 
     def read(self):
         """(detection state 0/1, point (3), detected object handle or -1, surface normal (3)).
         An object removed since the last step is not reported."""
-        swarm = self._sim.swarm
-        row = self._sim.robot_index(self._robot)
+        swarm = self._epucks.swarm
+        row = self._epucks.robot_index(self._robot)
         handle = int(swarm.detected_handles[row, self._sensor])
-        if handle < 0 or handle not in self._sim.registry:
+        if handle < 0 or handle not in self._epucks.sim.registry:
             return 0, np.zeros(3), -1, np.zeros(3)
         return (1, _core_to_vrep(swarm.detected_points[row, self._sensor]), handle,
                 _core_to_vrep(swarm.detected_normals[row, self._sensor]))
@@ -85,15 +85,16 @@ def _core_to_vrep(v):
 
 
 
-def attach_components(sim, name: str, parts):
-    """Give a new e-puck's registry objects (``parts``, a ``RobotParts`` of robot ``name`` in
-    ``sim``) their behaviour: its two wheel joints, its IR cones and its camera."""
+def attach_components(epucks, name: str, parts):
+    """Give a new e-puck's registry objects (``parts``, a ``RobotParts`` of robot ``name`` of
+    ``epucks``, the EpuckRobots) their behaviour: its two wheel joints, its IR cones and its
+    camera."""
     for column, side in enumerate(("left", "right")):
-        parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(sim, name, column)
-    for k in range(len(sim.model.sensors)):
-        parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(sim, name, k)
+        parts.parts[f"{side}Joint"].properties["joint"] = WheelJoint(epucks, name, column)
+    for k in range(len(epucks.model.sensors)):
+        parts.parts[f"proxSensor{k}"].properties["proximity"] = ConeProximity(epucks, name, k)
     parts.parts["camera"].properties["vision"] = VisionSensor(
-        sim, parts.handle("camera"), sim.camera, ignore_handle=parts.root.handle)
+        epucks.sim, parts.handle("camera"), epucks.camera, ignore_handle=parts.root.handle)
 
 
 __all__ = ["ConeProximity", "WheelJoint", "attach_components"]

@@ -1,8 +1,9 @@
 """The e-puck2's sensors beyond the e-puck's (its driver's ``dist_sens``, ``mag_field``,
 ``battery``, ``floor``, ``microphone``), as model state read after each step like the swarm's.
 
-A :class:`~epuck_vrep_compat.devices.extension.SimulationExtension`: after every step of the
-e-pucks it fills one row per robot (rows as ``sim.robot_names``):
+A :class:`~epuck_vrep_compat.sim.extension.SimulationExtension`: after every step of the
+e-pucks (:class:`~epuck_vrep_compat.epuck.swarm.EpuckRobots`) it fills one row per robot (rows
+as their ``robot_names``):
 
 * ``tof_m`` (N,): the VL53L0X time-of-flight range, ray cast in the C++ core
   (``TofSensorArray``, its own seeded noise per robot);
@@ -30,7 +31,7 @@ from typing import Tuple
 import numpy as np
 
 from epuck_vrep_compat import TofSensorArray
-from epuck_vrep_compat.devices.extension import SimulationExtension
+from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
 
 # ground sensors in the body frame (x forward, y left), metres: the ground module's three
@@ -76,12 +77,13 @@ def hashed_normals(seed: int, robot_ids, frame: int, count: int) -> np.ndarray:
 
 
 class Epuck2Sensors(SimulationExtension):
-    """Computes the e-puck2's extra readings of every robot after each step; its noise streams
-    are seeded with ``tof_seed`` and ``mag_seed``."""
+    """Computes the e-puck2's extra readings of every robot of ``epucks`` (the EpuckRobots)
+    after each step; its noise streams are seeded with ``tof_seed`` and ``mag_seed``."""
 
-    def __init__(self, sim, settings: Epuck2Settings, tof_seed: int, mag_seed: int,
+    def __init__(self, epucks, settings: Epuck2Settings, tof_seed: int, mag_seed: int,
                  floor_regions=(), floor_base_rgb=(0.85, 0.85, 0.8), readings=READINGS):
-        self.sim = sim
+        self.epucks = epucks
+        self.sim = epucks.sim
         self.settings = settings
         self.tof_seed, self.mag_seed = int(tof_seed), int(mag_seed)
         self.readings = READINGS & frozenset(readings)
@@ -102,18 +104,21 @@ class Epuck2Sensors(SimulationExtension):
         self.step(0.0)
 
     def step(self, dt: float) -> None:
-        sim, s, wanted = self.sim, self.settings, self.readings
-        swarm = sim.swarm
+        sim, epucks, s, wanted = self.sim, self.epucks, self.settings, self.readings
+        swarm = epucks.swarm
         poses = np.asarray(swarm.poses, dtype=float).reshape(-1, 3)
-        noise = sim.noise.enabled
+        noise = epucks.noise.enabled
         if self._tof is not None:
             self.tof_m = self._tof.read(sim.world, poses, [int(h) for h in swarm.handles],
                                         list(swarm.stream_ids), noise)
-        c, sn = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+        # contiguous: numpy takes its vector sin/cos for a strided column only when the
+        # result happens to lie far enough from it in memory, libm's otherwise (1 ulp apart)
+        yaw = np.ascontiguousarray(poses[:, 2])
+        c, sn = np.cos(yaw), np.sin(yaw)
         if "mag_field" in wanted:
             self.mag_tesla = self._magnetometer(c, sn, noise)
         if "battery" in wanted:
-            self.battery_v = self._battery(sim.robot_names, sim.time_s)
+            self.battery_v = self._battery(epucks.robot_names, sim.time_s)
         if "floor" in wanted:
             self.floor = self._floor(poses, c, sn)
         if "microphone" in wanted:
@@ -124,7 +129,7 @@ class Epuck2Sensors(SimulationExtension):
         bx, by, bz = s.mag_world_tesla
         mag = np.stack((c * bx + sn * by, -sn * bx + c * by, np.full_like(c, bz)), axis=1)
         if noise and s.mag_stddev_tesla > 0.0:
-            ids = np.asarray(self.sim.swarm.stream_ids, dtype=np.uint64)
+            ids = np.asarray(self.epucks.swarm.stream_ids, dtype=np.uint64)
             mag += s.mag_stddev_tesla * hashed_normals(self.mag_seed, ids, self.sim.frame, 3)
         return mag
 
@@ -143,7 +148,7 @@ class Epuck2Sensors(SimulationExtension):
         return np.rint(1000.0 * rgb.mean(axis=1)).astype(np.int64).reshape(-1, 3)
 
     def forget(self, removed: set) -> None:
-        names = set(self.sim.robot_names)
+        names = set(self.epucks.robot_names)
         self._born_s = {n: t for n, t in self._born_s.items() if n in names}
 
     def reset(self) -> None:

@@ -62,13 +62,17 @@ class Scene:
     floor_regions: List[FloorRegion] = field(default_factory=list)   # ground sensors see them
 
     def refuse_unbuilt(self, extended_sections=()):
-        """SceneError naming a section that only an extension builds (the ``cell``) and that is
-        not among ``extended_sections``: a simulation built without it would ignore part of the
-        scene."""
-        if self.cell is not None and "cell" not in extended_sections:
-            raise SceneError(f"{self.source or 'scene'}: its 'cell' section needs the cell's "
-                             "extension, which Simulation(...) does not build; build the "
-                             "simulation with epuck_vrep_compat.builder.build.build_simulation")
+        """SceneError naming a section that only an extension builds (the e-pucks' ``robots``,
+        the ``cell``) and that is not among ``extended_sections``: a simulation built without
+        it would ignore part of the scene."""
+        present = (("robots", "e-pucks'", bool(self.robots)),
+                   ("cell", "cell's", self.cell is not None))
+        for section, owner, used in present:
+            if used and section not in extended_sections:
+                raise SceneError(f"{self.source or 'scene'}: its '{section}' section needs the "
+                                 f"{owner} extension, which Simulation(...) does not build; "
+                                 "build the simulation with "
+                                 "epuck_vrep_compat.builder.build.build_simulation")
 
 
 def load_scene(path: str) -> Scene:

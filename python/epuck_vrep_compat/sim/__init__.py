@@ -1,3 +1,3 @@
-"""sim layer of epuck_vrep_compat: the simulation, its run control and arena (the e-puck
-family's parts it holds are in :mod:`epuck_vrep_compat.epuck`; its extensions' interface in
-:mod:`epuck_vrep_compat.devices.extension`)."""
+"""sim layer of epuck_vrep_compat: the world, which knows no robot family: the simulation
+(registry, collision world, arena, signals, time, the one lock), the interface of its extensions
+(:mod:`.extension`, which every robot family implements), and run control."""

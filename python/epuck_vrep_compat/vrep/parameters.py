@@ -60,7 +60,7 @@ class VrepParameters:
 
     def array_parameter(self, parameter: int):
         if parameter == vc.ARRAYPARAM_GRAVITY:
-            return [0.0, 0.0, -self.sim.model.gravity_m_s2]
+            return [0.0, 0.0, -self.sim.epucks.model.gravity_m_s2]
         raise VrepError(f"array parameter {parameter} is not supported by this simulator")
 
     def string_parameter(self, parameter: int) -> str:

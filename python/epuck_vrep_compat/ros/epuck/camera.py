@@ -43,7 +43,7 @@ class CameraFace(Face):
         self.profile = profile
         self.mode = mode
         self.sim = sim
-        self._period_s = 1.0 / sim.camera.rate_hz
+        self._period_s = 1.0 / sim.epucks.camera.rate_hz
         self._cameras = {}            # robot name -> _Camera
         self._watch = _Watch(self)
         self._watched = []            # the cameras with a subscriber, as of the last recount
@@ -53,13 +53,13 @@ class CameraFace(Face):
     def sync(self):
         """Follow the simulation's robots (between steps): a camera for each new robot, none
         for each removed one."""
-        names_now = self.sim.robot_names
+        names_now = self.sim.epucks.robot_names
         for name in [n for n in self._cameras if n not in names_now]:
             self._cameras.pop(name).close()
         for name in names_now:
             if name not in self._cameras:
-                self._cameras[name] = _Camera(self.profile, self.sim.camera, name, self._watch,
-                                              gray=self.mode == "gray")
+                self._cameras[name] = _Camera(self.profile, self.sim.epucks.camera, name,
+                                              self._watch, gray=self.mode == "gray")
         self.watched_stale = True
 
     def publish(self, step: Step):
@@ -73,7 +73,7 @@ class CameraFace(Face):
                if now + 1e-9 >= c.next_due_s and c.image.impl.has_connections()]
         if not due:
             return
-        images = render_robot_cameras(self.sim, [c.robot for c in due])
+        images = render_robot_cameras(self.sim.epucks, [c.robot for c in due])
         if self.mode == "gray":
             images = _luma(images)
         for camera, image in zip(due, images):

@@ -41,8 +41,8 @@ def _origin(xyz, q):
 
 def robot_urdf(profile, sim, index) -> str:
     """The URDF of robot ``index`` with links named as the profile's frames."""
-    robot = sim.robot_names[index]
-    model = sim.model
+    robot = sim.epucks.robot_names[index]
+    model = sim.epucks.model
     base = profile.frame(robot, epuck_names.BASE_FRAME)
     radius, height = model.body_radius_m, model.body_height_m
     parts = [f'<robot name={quoteattr(profile.frame_prefix(robot))}>', _WHITE, _DARK,
@@ -81,7 +81,7 @@ class DescriptionFace(Face):
         self.sync()
 
     def sync(self):
-        names_now = list(self.sim.robot_names)
+        names_now = list(self.sim.epucks.robot_names)
         for name in self._set - set(names_now):
             try:
                 rospy.delete_param(description_param(self.profile, name))

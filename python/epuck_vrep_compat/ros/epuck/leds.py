@@ -44,7 +44,7 @@ class LedFace(Face):
     def sync(self):
         """Follow the simulation's robots and objects (between steps): LED topics for new
         robots (all LEDs off), none for removed ones; the markers are re-sent."""
-        names = self.sim.robot_names
+        names = self.sim.epucks.robot_names
         with self._lock:
             gone = [leds for name, leds in self._robots.items() if name not in names]
             self._robots = {name: self._robots.get(name) or _Leds(self, name) for name in names}
@@ -56,7 +56,7 @@ class LedFace(Face):
         """A robot's ``cmd_led`` (rospy thread): the new states into the model, whole (a toggle
         reads the states it changes)."""
         data = bytearray(msg.data)
-        result = self.sim.leds.update(
+        result = self.sim.epucks.leds.update(
             name, lambda current: commands.apply_led_command(self.profile.name, current, data))
         if isinstance(result, str):
             self._log.warn(f"{name}:cmd_led", "%s: %s; ignored", name, result)
@@ -72,13 +72,13 @@ class LedFace(Face):
                 return result
             self._colours.setdefault(name, {}).update(result[1])
             return result[0]
-        result = self.sim.leds.update(name, change)
+        result = self.sim.epucks.leds.update(name, change)
         if isinstance(result, str):
             self._log.warn(f"{name}:rgb_leds", "%s: %s; ignored", name, result)
 
     def publish(self, step: Step):
         """After a step: re-send the LED states set since, and the markers with them."""
-        model = self.sim.leds
+        model = self.sim.epucks.leds
         changes = model.changes
         with self._lock:
             if changes == self._seen_changes and not self._markers_dirty:
@@ -107,7 +107,7 @@ class LedFace(Face):
         clear.action = Marker.DELETEALL
         out.markers.append(clear)
         out.markers.extend(self._arena_markers())
-        model = self.sim.model
+        model = self.sim.epucks.model
         leds = led_positions()
         for name, values in state.items():
             frame = self.profile.frame(name, epuck_names.BASE_FRAME)

@@ -95,7 +95,7 @@ class EpuckFace(Face):
         self._routes = {}             # kind -> (M, 3) rows for StepBatch.add_slices
         self._routes_batch = None     # the batch whose writer ids the routes hold
         self._scanned = []            # (row, robot) of the robots whose scan has a subscriber
-        self._sensor_yaws = [s.yaw_rad for s in sim.model.sensors]
+        self._sensor_yaws = [s.yaw_rad for s in sim.epucks.model.sensors]
         self._max_range = profile.range.max_range_m
         self._min_range = profile.range.min_range_m
         self.sync()
@@ -103,7 +103,7 @@ class EpuckFace(Face):
     def sync(self):
         """Follow the simulation's robots (between steps): topics for each new robot, none for
         each removed one, the rows and message layouts of the ones there are now."""
-        names = self.sim.robot_names
+        names = self.sim.epucks.robot_names
         gone = [r for name, r in self._by_name.items() if name not in names]
         by_name = {name: self._by_name.get(name) or _Robot(self, name) for name in names}
         self.robots = [by_name[name] for name in names]
@@ -121,7 +121,7 @@ class EpuckFace(Face):
             [frame(r, epuck_names.PROX_FRAME_FORMAT.format(i=k))
              for r in robots for k in range(epuck_names.PROXIMITY_COUNT)],
             Range.INFRARED, rng.field_of_view_rad, rng.min_range_m, rng.max_range_m)
-        noise = self.sim.noise
+        noise = self.sim.epucks.noise
         self._imu_batch = wire.imu_batch(
             [frame(r, epuck_names.BASE_FRAME) for r in robots],
             np.square(noise.accel_stddev_m_s2) if noise.enabled else np.zeros(3),
@@ -152,10 +152,10 @@ class EpuckFace(Face):
 
     # --- commands ------------------------------------------------------------------------
     def on_cmd_vel(self, msg, name):
-        model = self.sim.model
+        model = self.sim.epucks.model
         wheels = commands.wheel_speeds(self.scaling, msg.linear.x, msg.angular.z,
                                        model.wheel_radius_m, model.wheel_separation_m)
-        if wheels is None or not self.sim.set_wheel_speeds(name, *wheels):
+        if wheels is None or not self.sim.epucks.set_wheel_speeds(name, *wheels):
             self._log.warn(f"{name}:cmd_vel", "%s: cmd_vel with a non-finite value refused "
                            "(linear.x=%s, angular.z=%s); wheels unchanged", name, msg.linear.x,
                            msg.angular.z)
@@ -169,8 +169,10 @@ class EpuckFace(Face):
             self._route(batch)
         for kind, slices in self._routes.items():
             batch.add_slices(self._pack(kind, secs, nsecs), slices)
-        for i, robot in self._scanned:
-            batch.add(robot.scan, self._scan(robot, secs, nsecs, self.sim.swarm.ranges_clean[i]))
+        if self._scanned:
+            clean = self.sim.epucks.swarm.ranges_clean
+            for i, robot in self._scanned:
+                batch.add(robot.scan, self._scan(robot, secs, nsecs, clean[i]))
 
     def _route(self, batch):
         """Where each message goes: for every connection of every output, the batch's writer
@@ -199,7 +201,7 @@ class EpuckFace(Face):
     def _pack(self, kind, secs, nsecs) -> np.ndarray:
         """This step's messages of one kind for all robots, in the kind's own buffer (valid
         until its next pack; the step batch copies the slices at once)."""
-        swarm = self.sim.swarm
+        swarm = self.sim.epucks.swarm
         if kind == "range":
             ranges = np.clip(swarm.ranges, self._min_range, self._max_range)
             return self._range_batch.pack_view(secs, nsecs, range=ranges)
@@ -209,7 +211,10 @@ class EpuckFace(Face):
                                         gyro=gyro)
         if kind == "ground_truth":
             poses, velocities = swarm.poses, swarm.velocities
-            yaw = poses[:, 2]
+            # contiguous: numpy 1.24 takes its vector cos/sin for a strided column only when
+            # the result happens to lie far enough from it in memory (libm's otherwise, 1 ulp
+            # apart), which made identical runs' forward speeds differ in the last bit
+            yaw = np.ascontiguousarray(poses[:, 2])
             forward = velocities[:, 0] * np.cos(yaw) + velocities[:, 1] * np.sin(yaw)
             return self._odom_batch.pack_view(secs, nsecs, **wire.planar_odometry_values(
                 poses[:, 0], poses[:, 1], yaw, forward, velocities[:, 2]))

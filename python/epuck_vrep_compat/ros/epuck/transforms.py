@@ -25,7 +25,7 @@ _OPTICAL_FROM_VISION = quat_from_axis_angle((0, 0, 1), np.pi)
 
 def robot_child_frames(profile, sim, index):
     """[(child frame, translation, quaternion or None for wheels)] under base_link."""
-    parts = sim.robots[index].parts
+    parts = sim.epucks.robots[index].parts
     out = []
     for i in range(epuck_names.PROXIMITY_COUNT):
         obj = parts[f"dummy_proxSensor{i}"]
@@ -65,7 +65,7 @@ class TfFace(Face):
         frames, translations, rotations = [], [], []
         base_rows, wheel_rows, static = [], [], []
         stamp = divmod(int(round(sim.time_s * 1e9)), 1_000_000_000)
-        for i, robot in enumerate(sim.robot_names):
+        for i, robot in enumerate(sim.epucks.robot_names):
             base = profile.frame(robot, epuck_names.BASE_FRAME)
             base_rows.append(len(frames))
             frames.append((ODOM_FRAME, base))
@@ -101,7 +101,7 @@ class TfFace(Face):
 
     def _moving(self):
         """(translations (M, 3), rotations (M, 4)) of this step's moving frames."""
-        swarm = self._sim.swarm
+        swarm = self._sim.epucks.swarm
         if self._profile.odom_tf_from_odometry:
             planar = swarm.odometry[:, :3]
         else:

@@ -18,6 +18,7 @@ from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
 from epuck_vrep_compat.epuck.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
 from epuck_vrep_compat.epuck.noise_presets import IMU_KEYS, load_noise_file, preset
+from epuck_vrep_compat.sim.simulation import SEED, STEP_S
 
 
 @dataclass
@@ -28,12 +29,12 @@ class SimParams:
     n: int = 1
     robot_names: list = field(default_factory=list)   # one per robot (a namespace, or "/")
     profile: str = "vrep"
-    seed: int = 0
+    seed: int = SEED
     rtf: float = 1.0
     vrep_realtime: bool = False         # V-REP's real-time switch (state bit 2); V-REP's default
     speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
-    step_s: float = 0.05
+    step_s: float = STEP_S
     paused: bool = False
     cmd_vel_scaling: str = "vrep"       # the profile's own (profiles.TopicProfile defaults)
     cmd_timeout_s: float = 0.0
@@ -63,7 +64,7 @@ def read_params(default_world: str) -> SimParams:
                      f"must be one of {sorted(PROFILES)}")
     p.robot_names = _read_robot_names(p)
     p.n = len(p.robot_names)
-    p.seed = _get("seed", 0, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")
+    p.seed = _get("seed", SEED, int, lambda v: 0 <= v < 2 ** 63, "must be a non-negative integer")
     p.rtf = _get("rtf", 1.0, float, lambda v: v >= 0.0, "must be >= 0 (0 = as fast as possible)")
     p.vrep_realtime = _get("vrep_realtime", False, bool)
     p.speed_scale_timeout_s = _get("speed_scale_timeout_s", 0.0, float,
@@ -72,7 +73,7 @@ def read_params(default_world: str) -> SimParams:
     p.speed_scale_robots = _get("speed_scale_robots", [], list,
                                 lambda v: all(isinstance(r, str) and r for r in v),
                                 "must be a list of cell robot names ([] = every robot)")
-    p.step_s = _get("step_s", 0.05, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
+    p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
     profile = PROFILES[p.profile]
     # unset or empty: the profile's original (its units; commands persist, no watchdog)

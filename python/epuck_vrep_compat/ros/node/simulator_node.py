@@ -159,7 +159,7 @@ class SimulatorNode:
         with self._lock:
             for face in self.faces:
                 face.sync()
-        robots = list(self.sim.robot_names)
+        robots = list(self.sim.epucks.robot_names)
         if self.sim.cell is not None:
             robots += [arm.spec.name for arm in self.sim.cell.arms]
         rospy.loginfo("scene changed: %d robot(s): %s", len(robots), ", ".join(robots) or "none")

@@ -93,7 +93,7 @@ class ExtrasFace(Face):
         self.sync()
 
     def sync(self):
-        names_now = list(self.sim.robot_names)
+        names_now = list(self.sim.epucks.robot_names)
         for name in [n for n in self.robots if n not in names_now]:
             for pub in self.robots.pop(name).values():
                 pub.unregister()
@@ -138,7 +138,7 @@ class ExtrasFace(Face):
                 batch.add_frame(pub, data[start:end])
 
     def _pack(self, topic, secs, nsecs) -> bytes:
-        s, swarm = self.sensors, self.sim.swarm
+        s, swarm = self.sensors, self.sim.epucks.swarm
         pack = self._batches[topic].pack
         if topic == "imu":
             accel = swarm.accel * self.gravity_sign
@@ -176,5 +176,5 @@ class ExtrasFace(Face):
 
     def _motor_steps(self, i):
         """The motors' speeds in steps/s (1000 per revolution), as the e-puck 1 reports them."""
-        wheels = self.sim.command.wheel_rad_s[i]
+        wheels = self.sim.epucks.command.wheel_rad_s[i]
         return [int(w * 1000.0 / (2.0 * np.pi)) for w in wheels]

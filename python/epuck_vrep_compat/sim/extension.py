@@ -1,12 +1,13 @@
 """What a :class:`~epuck_vrep_compat.sim.simulation.Simulation` asks of the things that extend
-it (the industrial cell, the e-puck2's sensors): a narrow interface, so the simulation never
-names them. It sits below the robot families (not in ``sim/``) because a family may hold an
-extension while the simulation still holds the e-puck swarm itself (issue 23).
+it (the e-pucks, the industrial cell, the e-puck2's sensors): a narrow interface, so the
+simulation never names them. Each robot family's package holds its extensions
+(:mod:`epuck_vrep_compat.epuck.swarm`, :mod:`epuck_vrep_compat.cell.cell`); the builder adds
+them.
 
 An extension registers its own objects in ``sim.registry`` and ``sim.world`` and gives them
 behaviour; the simulation calls these hooks, in the order the extensions were added, whenever
-an object may be one of theirs (removal, moves, velocities) and once per step and reset. The
-defaults claim nothing and do nothing.
+an object may be one of theirs (removal, moves, velocities, a model loaded) and once per step
+and reset. The defaults claim nothing and do nothing.
 """
 
 
@@ -36,10 +37,12 @@ class SimulationExtension:
         raise NotImplementedError
 
     def step(self, dt: float) -> None:
-        """After the e-pucks' step of ``dt`` seconds (the frame counter already advanced)."""
+        """One step of ``dt`` seconds, after the extensions added before stepped (the frame
+        counter already advanced: ``sim.time_s`` is the step's end)."""
 
     def reset(self) -> None:
-        """After the simulation's reset (robots at their start poses, noise restarted)."""
+        """Back to the start (robots at their start poses, noise restarted), after the
+        extensions added before."""
 
     def published_signals(self):
         """(kind, name) of the signals the extension's scripts publish from every start on, as
@@ -48,7 +51,8 @@ class SimulationExtension:
         return ()
 
     def load_model(self, model):
-        """simLoadModel of a model file (``scene.model_files.ModelFile``) that is not an
-        e-puck: the new robot's base object, or None when the model is not this extension's;
-        ValueError when refused."""
+        """simLoadModel of a model file (``scene.model_files.ModelFile``): the new robot (an
+        object whose ``root`` is its base object), or None when the model is not this
+        extension's; ValueError (nothing changed) when refused. The simulation calls its
+        listeners afterwards."""
         return None
