@@ -36,14 +36,15 @@ def test_model_names_that_load_the_epuck(name):
 @pytest.mark.parametrize("name", ["", "  ", "bubbleRob.ttm", "epuck.ttm", "ePuck.ttm/x",
                                   "/no/such/dir/ePuck2.yaml"])
 def test_unknown_model_names_are_refused_with_what_is_known(name):
-    with pytest.raises(ModelFileError, match="empty|not known.*ePuck.ttm, e-puck.ttm"):
+    with pytest.raises(ModelFileError,
+                       match="empty|not known.*ePuck.ttm, e-puck.ttm|outside the model folders"):
         ModelLibrary(MODELS).resolve(name)
 
 
 def test_a_model_file_of_ones_own_and_a_broken_one(tmp_path):
     own = tmp_path / "corner.yaml"
     own.write_text("robot: epuck\nposition_m: [0.4, -0.4]\nyaw_rad: 1.0\n")
-    model = ModelLibrary(MODELS).resolve(str(own))
+    model = ModelLibrary(MODELS, [str(tmp_path)]).resolve(str(own))
     assert model.position_m == (0.4, -0.4) and model.yaw_rad == 1.0
     library = ModelLibrary(str(tmp_path))
     assert library.resolve("corner.ttm") == model
@@ -114,3 +115,36 @@ def test_remove_object_takes_robots_whole_and_static_objects_out(backend):
     assert backend.remove_object(box) == [box]
     assert not backend.sim.world.has(box)
     assert backend.sim.epucks.robot_names == ["ePuck0"]
+
+
+def test_a_path_outside_the_model_folders_is_refused_unread(tmp_path):
+    """Anyone who reaches the master may call simRosLoadModel: only the library's folders."""
+    secret = tmp_path / "secret.yaml"
+    secret.write_text("robot: epuck\n")
+    for name in (str(secret), str(tmp_path / "missing.yaml"),
+                 os.path.join(MODELS, "..", "..", os.path.relpath(str(secret), "/"))):
+        with pytest.raises(ModelFileError, match="outside the model folders.*~model_dirs"):
+            ModelLibrary(MODELS).resolve(name)
+    # a symbolic link in a model folder to a file outside it is outside too
+    linked = tmp_path / "models"
+    linked.mkdir()
+    (linked / "link.yaml").symlink_to(secret)
+    with pytest.raises(ModelFileError, match="outside the model folders"):
+        ModelLibrary(str(linked)).resolve(str(linked / "link.yaml"))
+    # listed, the folder's files load by path and by name, after the package's own
+    library = ModelLibrary(MODELS, [str(tmp_path)])
+    assert library.resolve(str(secret)).path == str(secret)
+    assert library.resolve("secret.ttm").path == str(secret)
+    assert os.path.samefile(library.resolve("ePuck.ttm").path, EPUCK_YAML)
+
+
+def test_errors_never_quote_a_model_files_text(tmp_path):
+    (tmp_path / "bad.yaml").write_text("robot: epuck\npassword: [hunter2\n")
+    with pytest.raises(ModelFileError) as error:
+        ModelLibrary(str(tmp_path)).resolve("bad")
+    assert "hunter2" not in str(error.value)
+    assert "not valid YAML at line" in str(error.value)
+    (tmp_path / "binary.yaml").write_bytes(b"\xff\xfe secret")
+    with pytest.raises(ModelFileError, match="not UTF-8") as error:
+        ModelLibrary(str(tmp_path)).resolve("binary")
+    assert "secret" not in str(error.value)

@@ -7,15 +7,19 @@ gives ``urdf`` (relative to the model file), ``name`` (its base object's), ``mob
 V-REP's ``e-puck.ttm``), ``position_m`` and ``yaw_rad`` (the robot goes to the free place
 nearest to that point). A request names a model by
 
-* the path of a model file (``.yaml``) anywhere, or
+* the path of a model file (``.yaml``) inside one of the library's folders (the package's
+  ``models/`` and the folders the user lists, ``~model_dirs``), or
 * a file name whose last component, ``<stem>`` or ``<stem>.ttm`` or ``<stem>.yaml``, names the
-  file ``<stem>.yaml`` of the library folder, or is one of a library file's aliases. V-REP
-  clients pass paths of ``.ttm`` files (``models/robots/mobile/e-puck.ttm``); their folders do
-  not matter here.
+  file ``<stem>.yaml`` of a library folder (the first that has it), or is one of a library
+  file's aliases. V-REP clients pass paths of ``.ttm`` files
+  (``models/robots/mobile/e-puck.ttm``); their folders do not matter here.
 
-Anything else, and a file over :data:`MAX_MODEL_FILE_BYTES`, raises :class:`ModelFileError`
-with the reason. Reading touches no simulation state: ``simRosLoadModel`` reads and checks the
-file before it takes the simulation lock.
+Any caller that reaches the ROS master may call ``simRosLoadModel``, so a path outside the
+library's folders is refused (its file is never opened), and no error quotes a file's
+contents (a YAML error gives the line and column only). Anything else, and a file over
+:data:`MAX_MODEL_FILE_BYTES`, raises :class:`ModelFileError` with the reason. Reading touches
+no simulation state: ``simRosLoadModel`` reads and checks the file before it takes the
+simulation lock.
 """
 import os
 from dataclasses import dataclass
@@ -46,21 +50,35 @@ class ModelFile:
 
 
 class ModelLibrary:
-    """The model files of one folder (the package's ``models/``), read when asked for."""
+    """The model files of the library's folders (the package's ``models/`` first, then the
+    user's), read when asked for."""
 
-    def __init__(self, directory: str):
+    def __init__(self, directory: str, more_directories=()):
+        self.directories = [directory] + [d for d in more_directories if d]
         self.directory = directory
+
+    def inside(self, path: str) -> bool:
+        """Whether ``path`` (symbolic links resolved) lies in one of the library's folders."""
+        real = os.path.realpath(path)
+        return any(os.path.commonpath([real, os.path.realpath(d)]) == os.path.realpath(d)
+                   for d in self.directories)
 
     def resolve(self, file_name: str) -> ModelFile:
         if not file_name.strip():
             raise ModelFileError("the model file name is empty")
-        if file_name.endswith(".yaml") and os.path.isfile(file_name):
-            return read_model_file(file_name)
+        if file_name.endswith(".yaml") and os.path.isabs(file_name):
+            if not self.inside(file_name):
+                raise ModelFileError(
+                    f"model file '{file_name}' is outside the model folders "
+                    f"({', '.join(self.directories)}); list its folder in ~model_dirs")
+            if os.path.isfile(file_name):
+                return read_model_file(file_name)
         base = file_name.replace("\\", "/").rsplit("/", 1)[-1]
         stem = next((base[:-len(e)] for e in _EXTENSIONS if base.endswith(e)), base)
-        own = os.path.join(self.directory, stem + ".yaml")
-        if stem and os.path.isfile(own):
-            return read_model_file(own)
+        for directory in self.directories:
+            own = os.path.join(directory, stem + ".yaml")
+            if stem and os.path.isfile(own):
+                return read_model_file(own)
         for path in self._files():
             if base in _aliases(path):
                 return read_model_file(path)
@@ -76,11 +94,14 @@ class ModelLibrary:
         return out
 
     def _files(self):
-        try:
-            entries = sorted(os.listdir(self.directory))
-        except OSError:
-            return []
-        return [os.path.join(self.directory, e) for e in entries if e.endswith(".yaml")]
+        out = []
+        for directory in self.directories:
+            try:
+                entries = sorted(os.listdir(directory))
+            except OSError:
+                continue
+            out += [os.path.join(directory, e) for e in entries if e.endswith(".yaml")]
+        return out
 
 
 def read_model_file(path: str) -> ModelFile:
@@ -134,7 +155,7 @@ def _load(path: str) -> dict:
         raise ModelFileError(f"model file '{path}' has {size} bytes; a model file has at most "
                              f"{MAX_MODEL_FILE_BYTES}")
     try:
-        data = read_yaml(path, "model file")
+        data = read_yaml(path, "model file", quote=False)
     except SceneError as e:
         raise ModelFileError(str(e)) from None
     if not isinstance(data, dict):

@@ -12,15 +12,23 @@ class SceneError(ValueError):
     """A scene file that cannot be used; the message names the key."""
 
 
-def read_yaml(path: str, what: str):
-    """The content of a YAML file; SceneError saying which ``what`` could not be read."""
+def read_yaml(path: str, what: str, quote: bool = True):
+    """The content of a YAML file; SceneError saying which ``what`` could not be read.
+    ``quote=False``: a syntax error names its line and column, never the file's text (for
+    files a remote caller names)."""
     try:
         with open(path, "r", encoding="utf-8") as f:
             return yaml.safe_load(f)
     except OSError as e:
         raise SceneError(f"cannot read {what} '{path}': {e.strerror}") from e
+    except UnicodeDecodeError as e:
+        raise SceneError(f"{what} '{path}' is not UTF-8 text") from e
     except yaml.YAMLError as e:
-        raise SceneError(f"{what} '{path}' is not valid YAML: {e}") from e
+        if quote:
+            raise SceneError(f"{what} '{path}' is not valid YAML: {e}") from e
+        mark = getattr(e, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise SceneError(f"{what} '{path}' is not valid YAML{where}") from e
 
 
 def only(d, allowed, where):

@@ -4,6 +4,7 @@ An unusable value raises :class:`ParamError` (the package's one, from ``ros/comm
 naming the parameter; the node then exits non-zero.
 """
 import math
+import os
 from dataclasses import dataclass, field
 
 import rospy
@@ -34,6 +35,7 @@ class SimParams:
     vrep_realtime: bool = False         # V-REP's real-time switch (state bit 2); V-REP's default
     speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
+    model_dirs: list = field(default_factory=list)  # simRosLoadModel's folders besides models/
     step_s: float = STEP_S
     paused: bool = False
     cmd_vel_scaling: str = "vrep"       # the profile's own (profiles.TopicProfile defaults)
@@ -73,6 +75,9 @@ def read_params(default_world: str) -> SimParams:
     p.speed_scale_robots = _get("speed_scale_robots", [], list,
                                 lambda v: all(isinstance(r, str) and r for r in v),
                                 "must be a list of cell robot names ([] = every robot)")
+    p.model_dirs = _get("model_dirs", [], list,
+                        lambda v: all(isinstance(d, str) and os.path.isdir(d) for d in v),
+                        "must be a list of existing folders")
     p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
     profile = PROFILES[p.profile]

@@ -60,7 +60,8 @@ class SimulatorNode:
     """The simulator node: one simulation, stepped at the requested rate, and its faces."""
 
     def __init__(self, params: SimParams, models_dir: str = None):
-        """``models_dir``: the folder of the model files simRosLoadModel finds by name."""
+        """``models_dir``: the package's folder of the model files simRosLoadModel loads
+        (``params.model_dirs``, the user's, come after it)."""
         self.params = params
         scene = load_scene(params.world)
         profile = PROFILES[params.profile]
@@ -88,7 +89,7 @@ class SimulatorNode:
         self.extras = None
         if self.sim.epuck2 is not None:      # the drivers' extra sensors, after the swarm's
             self.extras = ExtrasFace(profile, self.sim, self.sim.epuck2, params.accel_sign)
-        models = ModelLibrary(models_dir) if models_dir else None
+        models = ModelLibrary(models_dir, params.model_dirs) if models_dir else None
         self.vrep = VrepFace(VrepBackend(self.sim, self.control, params.vrep_realtime, models))
         self.sim.listeners.append(self._on_robots_changed)
         self.cell = None
