@@ -1,15 +1,15 @@
 """policy_node's logic without a master: the policy's command for one IR cycle in each cmd_vel
-scaling, the IMU and neighbour blocks from messages, loading ``pkg.module:function``."""
+scaling, the IMU, neighbour and camera blocks from messages, loading ``pkg.module:function``."""
 import math
 
 import numpy as np
 import pytest
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Imu
+from sensor_msgs.msg import Image, Imu
 
 from epuck_vrep_compat.compat.cmd_vel import MAX_WHEEL_SPEED_RAD_S, wheel_speeds
 from epuck_vrep_compat.nodes.policy_node import PolicyRunner, load_function
-from epuck_vrep_compat.policy.observation import ObservationLayout
+from epuck_vrep_compat.policy.observation import ObservationLayout, camera_row
 from epuck_vrep_compat.ros.common.params import ParamError
 
 RANGES = [0.05, 0.03, 0.05, 0.05, 0.05, 0.05, 0.05, 0.01]
@@ -45,6 +45,27 @@ def test_imu_and_neighbours_come_from_the_messages():
     assert obs[8:14] == pytest.approx([0, 0, 1.0, 0, 0, 0.2])
     assert obs[14:17] == pytest.approx([0.6, 0.0, -1.0], abs=1e-12)   # on its right
     assert obs[17:].tolist() == [0.0, 0.0, 0.0]
+
+
+def image(width, height, encoding, pixels):
+    msg = Image(width=width, height=height, encoding=encoding)
+    msg.step = width * (3 if encoding == "rgb8" else 1)
+    msg.data = np.asarray(pixels, np.uint8).tobytes()
+    return msg
+
+
+def test_camera_block_from_the_camera_topic_zeros_until_the_first_image():
+    layout = ObservationLayout(camera=True, camera_bins=4)
+    runner = PolicyRunner(lambda obs: (0.0, 0.0), layout, "si", "epuck_robot_0")
+    assert runner.observe(RANGES)[8:].tolist() == [0.0] * 4
+    rgb = np.random.default_rng(3).integers(0, 256, (40, 40, 3), dtype=np.uint8)
+    runner.on_camera(image(40, 40, "rgb8", rgb))
+    assert np.array_equal(runner.observe(RANGES)[8:], camera_row(rgb, 4))
+    mono = np.arange(320).reshape(2, 160) % 256
+    runner.on_camera(image(160, 2, "mono8", mono))
+    assert np.array_equal(runner.observe(RANGES)[8:], camera_row(mono.astype(np.uint8), 4))
+    runner.on_camera(image(4, 1, "bgr8", np.zeros(12)))       # ignored, with a warning
+    assert np.array_equal(runner.observe(RANGES)[8:], camera_row(mono.astype(np.uint8), 4))
 
 
 def test_load_function_names_the_parameter():

@@ -12,6 +12,7 @@ from pettingzoo import ParallelEnv
 from epuck_vrep_compat.learn.env import METADATA, spaces
 from epuck_vrep_compat.learn.tasks import make_task
 from epuck_vrep_compat.learn.worlds import Worlds
+from epuck_vrep_compat.policy.observation import CAMERA_BINS
 
 
 class EpuckParallelEnv(ParallelEnv):
@@ -20,14 +21,15 @@ class EpuckParallelEnv(ParallelEnv):
     metadata = dict(METADATA, name="epuck_swarm_v0", is_parallelizable=True)
 
     def __init__(self, task: str = "aggregation", robots=None, render_mode=None,
-                 noise: str = "real_robot", imu: bool = False, episode_steps: int = 400):
+                 noise: str = "real_robot", imu: bool = False, episode_steps: int = 400,
+                 camera: bool = False, camera_bins: int = CAMERA_BINS, camera_spec=None):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         if robots is None and task == "obstacle_avoidance":
             robots = 4
         self.render_mode = render_mode
-        self.worlds = Worlds(make_task(task, robots, imu), 1, noise,
-                             episode_steps=episode_steps, multi_agent=True)
+        self.worlds = Worlds(make_task(task, robots, imu, camera, camera_bins), 1, noise,
+                             episode_steps=episode_steps, camera=camera_spec, multi_agent=True)
         self.possible_agents = [f"epuck_{r}" for r in self.worlds.agents]
         self.agents = []
         self._spaces = spaces(self.worlds.layout)

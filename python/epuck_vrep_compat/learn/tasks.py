@@ -22,7 +22,8 @@ from typing import List, Tuple
 
 import numpy as np
 
-from epuck_vrep_compat.policy.observation import ObservationLayout
+from epuck_vrep_compat.policy.observation import CAMERA_BINS, ObservationLayout
+from epuck_vrep_compat.scene.scene_file import Arena, Obstacle
 
 ARENA_SIDE_M = 1.0
 WALL_THICKNESS_M = 0.02
@@ -31,16 +32,21 @@ BODY_RADIUS_M = 0.037
 CLEARANCE_M = 0.02                  # between a robot's body and anything at the start
 FOLLOW_DISTANCE_M = 0.15
 FOLLOW_WIDTH_M = 0.1
+# the colours a scene file gives walls and obstacles by default (the camera sees them)
+WALL_RGB = Arena().wall_color
+OBSTACLE_RGB = Obstacle("", "cylinder", (0.0, 0.0)).color
 
 
 @dataclass(frozen=True)
 class Cylinder:
-    """An obstacle of the arena: centre (x, y) and radius [m], standing on the floor."""
+    """An obstacle of the arena: centre (x, y) and radius [m], standing on the floor, and its
+    colour (RGB in 0..1)."""
 
     x: float
     y: float
     radius: float
     height: float = WALL_HEIGHT_M
+    rgb: Tuple[float, float, float] = OBSTACLE_RGB
 
 
 @dataclass(frozen=True)
@@ -97,6 +103,21 @@ class Task:
                 - contact.astype(float))
 
 
+def scene_cylinders(scene) -> List[Cylinder]:
+    """The cylinders of a scene (``scene_file.Scene``) in the learning arena (the tasks' walls:
+    same size, thickness, height and colour), to build it in the learning worlds (the parity
+    tests compare the two); ValueError for another arena or an obstacle not a cylinder."""
+    arena = scene.arena
+    if ((tuple(arena.size_m), arena.wall_thickness_m, arena.wall_height_m,
+         tuple(arena.wall_color)) != ((ARENA_SIDE_M,) * 2, WALL_THICKNESS_M, WALL_HEIGHT_M,
+                                      tuple(WALL_RGB))):
+        raise ValueError("the scene's arena is not the learning arena (learn/tasks.py)")
+    if any(o.shape != "cylinder" for o in scene.obstacles):
+        raise ValueError("the learning arena's obstacles are cylinders")
+    return [Cylinder(o.position_m[0], o.position_m[1], o.radius_m, o.height_m, tuple(o.color))
+            for o in scene.obstacles]
+
+
 def floreano_fitness(wheels_rad_s, max_wheel_rad_s, ir_activation) -> np.ndarray:
     """Floreano and Mondada's (1994) ``V (1 - sqrt(dv)) (1 - i)`` per robot: wheels
     (..., 2) rad/s, IR activations (..., 8) -> (...)."""
@@ -131,22 +152,24 @@ def _behind(leader_pose, cylinders):
     return fx, fy, float(np.arctan2(y - fy, x - fx))
 
 
-TASKS = {
-    "obstacle_avoidance": lambda robots=1, imu=False: Task(
-        "obstacle_avoidance", robots, ObservationLayout(imu=imu), cylinders=(6, 0)),
-    "aggregation": lambda robots=5, imu=False: Task(
-        "aggregation", robots, ObservationLayout(imu=imu, neighbours=3, neighbour_range_m=1.5)),
-    "follow_leader": lambda robots=2, imu=False: Task(
-        "follow_leader", robots, ObservationLayout(imu=imu, neighbours=1,
-                                                   neighbour_range_m=0.5), leader=True),
+TASKS = {      # name: (default robots, neighbours, neighbour range [m], leader)
+    "obstacle_avoidance": (1, 0, 0.5, False),
+    "aggregation": (5, 3, 1.5, False),
+    "follow_leader": (2, 1, 0.5, True),
 }
 
 
-def make_task(name: str, robots=None, imu: bool = False) -> Task:
-    """The task ``name`` (a key of TASKS) with ``robots`` robots (its default when None)."""
+def make_task(name: str, robots=None, imu: bool = False, camera: bool = False,
+              camera_bins: int = CAMERA_BINS) -> Task:
+    """The task ``name`` (a key of TASKS) with ``robots`` robots (its default when None), the
+    IMU and camera blocks in its observation as asked."""
     if name not in TASKS:
         raise ValueError(f"task must be one of {sorted(TASKS)}, got {name!r}")
-    task = TASKS[name](imu=imu) if robots is None else TASKS[name](robots=robots, imu=imu)
+    default_robots, neighbours, reach_m, leader = TASKS[name]
+    layout = ObservationLayout(imu=imu, neighbours=neighbours, neighbour_range_m=reach_m,
+                               camera=camera, camera_bins=camera_bins)
+    task = Task(name, default_robots if robots is None else robots, layout,
+                cylinders=(6, 0) if name == "obstacle_avoidance" else (0, 0), leader=leader)
     if task.robots < (2 if task.leader or name == "aggregation" else 1):
         raise ValueError(f"task {name} needs more robots, got {task.robots}")
     return task

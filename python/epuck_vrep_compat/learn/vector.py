@@ -15,6 +15,7 @@ from gymnasium.vector.utils import batch_space
 from epuck_vrep_compat.learn.env import METADATA, spaces
 from epuck_vrep_compat.learn.tasks import make_task
 from epuck_vrep_compat.learn.worlds import Worlds
+from epuck_vrep_compat.policy.observation import CAMERA_BINS
 
 
 class EpuckVectorEnv(VectorEnv):
@@ -24,12 +25,13 @@ class EpuckVectorEnv(VectorEnv):
 
     def __init__(self, num_envs: int = 1, task: str = "obstacle_avoidance", render_mode=None,
                  noise: str = "real_robot", robots=None, imu: bool = False,
-                 episode_steps: int = 400):
+                 episode_steps: int = 400, camera: bool = False,
+                 camera_bins: int = CAMERA_BINS, camera_spec=None):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.num_envs, self.render_mode = num_envs, render_mode
-        self.worlds = Worlds(make_task(task, robots, imu), num_envs, noise,
-                             episode_steps=episode_steps)
+        self.worlds = Worlds(make_task(task, robots, imu, camera, camera_bins), num_envs, noise,
+                             episode_steps=episode_steps, camera=camera_spec)
         self.single_observation_space, self.single_action_space = spaces(self.worlds.layout)
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)

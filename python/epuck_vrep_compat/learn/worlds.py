@@ -4,16 +4,19 @@ package's builder (the one ``policy_node`` uses), rewards. The environments are 
 
 Rows are ``world * R + robot``. A world's reset places its arena and robots and restarts its
 noise streams; its first observation is that of a step with the wheels at rest (so the sensors
-have read the new arena), taken with the other worlds' next step.
+have read the new arena), taken with the other worlds' next step. The robots' cameras are
+rendered (:mod:`epuck_vrep_compat.learn.camera`) only when the layout has the camera block.
 """
 from typing import Optional, Sequence
 
 import numpy as np
 
 from epuck_vrep_compat._core import BatchedWorlds
+from epuck_vrep_compat.devices.components import CameraSpec
 from epuck_vrep_compat.epuck.noise_presets import preset
+from epuck_vrep_compat.learn.camera import WorldCameras
 from epuck_vrep_compat.learn.render import ArenaPainter
-from epuck_vrep_compat.learn.tasks import Task
+from epuck_vrep_compat.learn.tasks import WALL_RGB, Task
 from epuck_vrep_compat.policy import neighbours as nb
 from epuck_vrep_compat.policy import observation
 from epuck_vrep_compat.policy.controller import braitenberg
@@ -25,10 +28,13 @@ SEED_LIMIT = 2 ** 31
 
 class Worlds:
     """B worlds of ``task`` stepped together; ``noise``: a preset name of
-    :mod:`epuck_vrep_compat.epuck.noise_presets` (``real_robot``, ``vrep``, ``ideal``)."""
+    :mod:`epuck_vrep_compat.epuck.noise_presets` (``real_robot``, ``vrep``, ``ideal``);
+    ``camera``: the robots' ``CameraSpec`` for a layout with the camera block (None: the
+    e-puck's default, the ``vrep`` profile's 40 x 40)."""
 
     def __init__(self, task: Task, worlds: int, noise: str = "real_robot", dt_s: float = DT_S,
-                 episode_steps: int = 400, multi_agent: bool = False):
+                 episode_steps: int = 400, multi_agent: bool = False,
+                 camera: Optional[CameraSpec] = None):
         self.task, self.count, self.dt_s = task, worlds, dt_s
         self.episode_steps = episode_steps
         self.model = default_model()
@@ -51,6 +57,8 @@ class Worlds:
         self.poses = np.zeros((worlds * task.robots, 3))
         self.contact = np.zeros(worlds * task.robots, dtype=bool)
         self._painter = None
+        self.cameras = (WorldCameras(self.core, self.model, camera) if task.layout.camera
+                        else None)
 
     @property
     def layout(self):
@@ -65,14 +73,19 @@ class Worlds:
         follow at the next :meth:`step` (with this world's wheels at rest)."""
         rng = self.rngs[world] if rng is None else rng
         cylinders, poses = self.task.arena(rng)
+        self.build(world, cylinders, int(rng.integers(SEED_LIMIT)), poses)
+
+    def build(self, world: int, cylinders, seed: int, poses):
+        """``world`` anew: the task's walls, ``cylinders`` (:class:`~epuck_vrep_compat.learn.
+        tasks.Cylinder`), its noise streams from ``seed``, the robots at ``poses`` (R, 3)."""
         self.core.clear_obstacles(world)
         for centre, half, yaw in self.task.walls():
-            self.core.add_box(world, np.array(centre), np.array(half), yaw)
+            self.core.add_box(world, np.array(centre), np.array(half), yaw, np.array(WALL_RGB))
         for c in cylinders:
             self.core.add_cylinder(world, np.array((c.x, c.y, 0.5 * c.height)), c.radius,
-                                   c.height)
-        self.cylinders[world] = cylinders
-        self.core.reset_world(world, int(rng.integers(SEED_LIMIT)))
+                                   c.height, np.array(c.rgb))
+        self.cylinders[world] = list(cylinders)
+        self.core.reset_world(world, seed)
         for r, (x, y, yaw) in enumerate(poses):
             self.core.set_pose(world, r, float(x), float(y), float(yaw))
         self.elapsed[world] = 0
@@ -108,7 +121,10 @@ class Worlds:
         if layout.neighbours:
             neighbours = nb.blocks(self.poses, layout.neighbours, layout.neighbour_range_m,
                                    groups=self.count)
-        return observation.build(layout, core.ranges, core.accel, core.gyro, neighbours)
+        camera = None
+        if layout.camera:
+            camera = observation.camera_row(self.cameras.render(self.poses), layout.camera_bins)
+        return observation.build(layout, core.ranges, core.accel, core.gyro, neighbours, camera)
 
     def rewards(self) -> np.ndarray:
         B, R = self.count, self.robots

@@ -8,12 +8,14 @@ builder the learning environments use (:mod:`epuck_vrep_compat.policy`): a polic
 Parameters: ``~weights`` (a perceptron weights file, default the shipped avoider
 ``config/avoider.json``) or ``~policy`` (``pkg.module:function``: ``function(obs)``
 returns the two wheel speeds in [-1, 1]; its layout from ``~imu``, ``~neighbours``,
-``~neighbour_range_m``), ``~profile`` (vrep, epuck_driver, epuck2_driver), ``~robot`` (the
-profile's first robot), ``~cmd_vel_scaling`` (the profile's default, the simulator's),
-``~others`` (robot names whose ``ground_truth`` gives the neighbours' block).
+``~neighbour_range_m``, ``~camera``, ``~camera_bins``), ``~profile`` (vrep, epuck_driver,
+epuck2_driver), ``~robot`` (the profile's first robot), ``~cmd_vel_scaling`` (the profile's
+default, the simulator's), ``~others`` (robot names whose ``ground_truth`` gives the
+neighbours' block).
 It answers each sensor cycle once (:mod:`epuck_vrep_compat.nodes.ir_cycle`): when the eight
 ``proximity`` readings of one step are in, it builds the observation (with the latest IMU and
-poses), calls the policy and publishes the wheel speeds as the profile's ``cmd_vel``.
+poses and camera row: the last ``camera`` image, rgb8 or mono8, zeros until the first), calls
+the policy and publishes the wheel speeds as the profile's ``cmd_vel``.
 """
 import importlib
 import os
@@ -22,7 +24,7 @@ import numpy as np
 import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Imu, Range
+from sensor_msgs.msg import Image, Imu, Range
 
 from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.compat.cmd_vel import (MAX_WHEEL_SPEED_RAD_S, PROFILE_SCALINGS, SCALINGS,
@@ -32,6 +34,7 @@ from epuck_vrep_compat.nodes.ir_cycle import IrCycle
 from epuck_vrep_compat.policy import neighbours as nb
 from epuck_vrep_compat.policy import observation
 from epuck_vrep_compat.policy.controller import Perceptron
+from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 
 PROFILES = epuck_names.PROFILE_NAMES
@@ -62,11 +65,22 @@ class PolicyRunner:
         self.accel = np.array([0.0, 0.0, observation.ACCEL_UNIT_M_S2])
         self.gyro = np.zeros(3)
         self.poses = {}
+        self.camera = np.zeros(layout.camera_bins)
         self.last_observation = None
+        self._log = ThrottledLog()
 
     def on_imu(self, msg):
         a, g = msg.linear_acceleration, msg.angular_velocity
         self.accel, self.gyro = np.array([a.x, a.y, a.z]), np.array([g.x, g.y, g.z])
+
+    def on_camera(self, msg):
+        try:
+            image = observation.image_from_buffer(msg.data, msg.width, msg.height, msg.step,
+                                                  msg.encoding)
+        except ValueError as e:
+            self._log.warn("camera", "policy_node: camera image ignored: %s", e)
+            return
+        self.camera = observation.camera_row(image, self.layout.camera_bins)
 
     def on_pose(self, msg, name):
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
@@ -79,7 +93,8 @@ class PolicyRunner:
             others = [p[:2] for n, p in self.poses.items() if n != self.robot]
             block = (np.zeros(3 * self.layout.neighbours) if own is None else
                      nb.block(own, others, self.layout.neighbours, self.layout.neighbour_range_m))
-        return observation.build(self.layout, ranges_m, self.accel, self.gyro, block)
+        return observation.build(self.layout, ranges_m, self.accel, self.gyro, block,
+                                 self.camera)
 
     def control(self, ranges_m, _max_ranges_m):
         """(linear.x, angular.z) for this cycle's eight ranges."""
@@ -107,7 +122,10 @@ def read_config():
             imu=read_typed("imu", False, bool),
             neighbours=read_typed("neighbours", 0, int, lambda v: v >= 0, "must be >= 0"),
             neighbour_range_m=read_typed("neighbour_range_m", 0.5, float, lambda v: v > 0,
-                                         "must be > 0"))
+                                         "must be > 0"),
+            camera=read_typed("camera", False, bool),
+            camera_bins=read_typed("camera_bins", observation.CAMERA_BINS, int,
+                                   lambda v: v >= 1, "must be >= 1"))
     else:
         path = read_typed("weights", "", str) or shipped_weights()
         try:
@@ -133,6 +151,9 @@ def main():
     if layout.imu:
         subs.append(rospy.Subscriber(names.topic(robot, "imu"), Imu, runner.on_imu,
                                      queue_size=1))
+    if layout.camera:
+        subs.append(rospy.Subscriber(names.topic(robot, "camera"), Image, runner.on_camera,
+                                     queue_size=1, buff_size=2 ** 20))
     if layout.neighbours:
         subs += [rospy.Subscriber(names.topic(name, "ground_truth"), Odometry, runner.on_pose,
                                   name, queue_size=1) for name in [robot] + list(others)]

@@ -10,12 +10,13 @@ The weights file is JSON (readable, diffable, a few hundred bytes)::
 
     {"format": "epuck_vrep_compat/perceptron-1",
      "observation": {"imu": false, "neighbours": 0, "neighbour_range_m": 0.5,
-                     "names": ["ir0", ..., "ir7"]},
+                     "camera": false, "camera_bins": 16, "names": ["ir0", ..., "ir7"]},
      "weights": [[...D...], [...D...]], "bias": [bl, br],
      "meta": {...}}                          # free: provenance (task, seed, fitness)
 
 The observation's layout is recorded with the weights, so ``policy_node`` builds the vector
-the weights were made for.
+the weights were made for (a file without the camera keys, written before the camera row
+existed, has no camera block).
 """
 import json
 from typing import Optional

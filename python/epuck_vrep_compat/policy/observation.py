@@ -17,6 +17,15 @@ Layout (:class:`ObservationLayout`; every block in this order, each value float6
   ``neighbour_range_m`` (centre to centre), nearest first: ``1 - distance / neighbour_range_m``
   and the cosine and sine of its bearing in the robot's frame (0 ahead, + to the left); all
   three 0 for a slot with no robot in range.
+* ``cam0..camK-1`` for K = ``camera_bins`` (``camera=True``, default K = 16): the camera row,
+  the middle row of the robot's camera image (the mean of the two middle rows when the height
+  is even: the rows at the horizon) as gray levels in [0, 1], averaged into K bins of equal
+  width, ``cam0`` at the image's left edge (column 0: the robot's left). A gray level is a
+  mono8 pixel / 255; an rgb8 pixel is first made mono8 as the drivers' gray mode makes it
+  (ITU-R BT.601 luma ``0.299 R + 0.587 G + 0.114 B``, rounded), so an rgb8 and a mono8 image
+  of one scene give the same block. A bin covering part of a pixel counts that part.
+  :func:`camera_row` makes the block from an image (:func:`image_from_buffer` from a
+  ``sensor_msgs/Image``'s fields).
 """
 from dataclasses import asdict, dataclass
 from typing import List, Optional
@@ -30,6 +39,9 @@ ACCEL_UNIT_M_S2 = 9.81
 GYRO_UNIT_RAD_S = 5.0
 IMU_CLIP = 4.0
 IMU_NAMES = ("accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z")
+CAMERA_BINS = 16
+LUMA_BT601 = np.array([0.299, 0.587, 0.114])
+ENCODING_CHANNELS = {"rgb8": 3, "mono8": 1}
 
 
 @dataclass(frozen=True)
@@ -39,11 +51,15 @@ class ObservationLayout:
     imu: bool = False
     neighbours: int = 0
     neighbour_range_m: float = 0.5
+    camera: bool = False
+    camera_bins: int = CAMERA_BINS
 
     def __post_init__(self):
         if self.neighbours < 0 or not self.neighbour_range_m > 0.0:
             raise ValueError(f"neighbours must be >= 0 and neighbour_range_m > 0, got "
                              f"{self.neighbours}, {self.neighbour_range_m}")
+        if self.camera_bins < 1:
+            raise ValueError(f"camera_bins must be >= 1, got {self.camera_bins}")
 
     @property
     def names(self) -> List[str]:
@@ -53,11 +69,14 @@ class ObservationLayout:
             names += list(IMU_NAMES)
         for k in range(self.neighbours):
             names += [f"nb{k}_near", f"nb{k}_cos", f"nb{k}_sin"]
+        if self.camera:
+            names += [f"cam{k}" for k in range(self.camera_bins)]
         return names
 
     @property
     def size(self) -> int:
-        return IR_COUNT + (len(IMU_NAMES) if self.imu else 0) + 3 * self.neighbours
+        return (IR_COUNT + (len(IMU_NAMES) if self.imu else 0) + 3 * self.neighbours
+                + (self.camera_bins if self.camera else 0))
 
     def bounds(self):
         """(low, high) of every value: for a Box space."""
@@ -76,7 +95,9 @@ class ObservationLayout:
     @classmethod
     def from_dict(cls, data: dict) -> "ObservationLayout":
         layout = cls(imu=bool(data.get("imu", False)), neighbours=int(data.get("neighbours", 0)),
-                     neighbour_range_m=float(data.get("neighbour_range_m", 0.5)))
+                     neighbour_range_m=float(data.get("neighbour_range_m", 0.5)),
+                     camera=bool(data.get("camera", False)),
+                     camera_bins=int(data.get("camera_bins", CAMERA_BINS)))
         if "names" in data and list(data["names"]) != layout.names:
             raise ValueError(f"observation names {list(data['names'])} do not match the "
                              f"layout's {layout.names}")
@@ -90,12 +111,58 @@ def ir_activation(ranges_m) -> np.ndarray:
     return np.clip((IR_MAX_RANGE_M - r) / (IR_MAX_RANGE_M - IR_MIN_RANGE_M), 0.0, 1.0)
 
 
+def image_from_buffer(data, width: int, height: int, step: int, encoding: str) -> np.ndarray:
+    """The pixels of a ``sensor_msgs/Image`` (its ``data``, ``width``, ``height``, ``step``,
+    ``encoding``: rgb8 or mono8) as uint8 (H, W, 3) or (H, W); ValueError otherwise."""
+    if encoding not in ENCODING_CHANNELS:
+        raise ValueError(f"camera encoding must be one of {sorted(ENCODING_CHANNELS)}, got "
+                         f"{encoding!r}")
+    channels = ENCODING_CHANNELS[encoding]
+    raw = np.frombuffer(bytes(data), dtype=np.uint8)
+    if width < 1 or height < 1 or step < width * channels or raw.size < step * height:
+        raise ValueError(f"a {width}x{height} {encoding} image needs rows of at least "
+                         f"{width * channels} bytes, got step {step} and {raw.size} bytes")
+    pixels = raw[:step * height].reshape(height, step)[:, :width * channels]
+    return pixels.reshape(height, width, 3) if channels == 3 else pixels.copy()
+
+
+def gray_levels(image) -> np.ndarray:
+    """mono8 (..., H, W) or rgb8 (..., H, W, 3) uint8 images -> their mono8 levels (..., H, W)
+    as float: an rgb8 pixel's rounded BT.601 luma, as the drivers' gray mode makes it."""
+    image = np.asarray(image)
+    if image.ndim >= 3 and image.shape[-1] == 3:
+        return np.rint(image @ LUMA_BT601).clip(0, 255)
+    return image.astype(float)
+
+
+def bin_weights(width: int, bins: int) -> np.ndarray:
+    """(width, bins): the share of pixel column j in bin k (bins of equal width, each column
+    the interval [j, j + 1)); every column of the matrix sums to 1."""
+    edges = np.arange(bins + 1) * (width / bins)
+    left, right = np.arange(width)[:, None], np.arange(1, width + 1)[:, None]
+    overlap = np.minimum(right, edges[None, 1:]) - np.maximum(left, edges[None, :-1])
+    return np.clip(overlap, 0.0, None) / (width / bins)
+
+
+def camera_row(image, bins: int = CAMERA_BINS) -> np.ndarray:
+    """The camera block (..., bins) in [0, 1] of images (..., H, W, 3) rgb8 or (..., H, W)
+    mono8 (a batch: leading axes; rgb8 needs its last axis of 3): the middle row (the two
+    middle rows' mean for an even H) in gray levels / 255, averaged into ``bins`` bins."""
+    gray = gray_levels(image)
+    height, width = gray.shape[-2:]
+    middle = slice((height - 1) // 2, height // 2 + 1)
+    row = gray[..., middle, :].mean(axis=-2) / 255.0
+    return np.clip(row @ bin_weights(width, bins), 0.0, 1.0)     # (a bin's sum may round)
+
+
 def build(layout: ObservationLayout, ranges_m, accel_m_s2=None, gyro_rad_s=None,
-          neighbours: Optional[np.ndarray] = None) -> np.ndarray:
+          neighbours: Optional[np.ndarray] = None, camera: Optional[np.ndarray] = None
+          ) -> np.ndarray:
     """The observation (..., layout.size) from the readings of one robot (or a batch):
     ``ranges_m`` (..., 8); with ``layout.imu`` ``accel_m_s2`` and ``gyro_rad_s`` (..., 3);
     with ``layout.neighbours`` the block ``neighbours`` (..., 3 K) from
-    :func:`epuck_vrep_compat.policy.neighbours.block`."""
+    :func:`epuck_vrep_compat.policy.neighbours.block`; with ``layout.camera`` the block
+    ``camera`` (..., camera_bins) from :func:`camera_row`."""
     parts = [ir_activation(ranges_m)]
     lead = parts[0].shape[:-1]
     if layout.imu:
@@ -109,4 +176,8 @@ def build(layout: ObservationLayout, ranges_m, accel_m_s2=None, gyro_rad_s=None,
             raise ValueError("this layout has the neighbours block: neighbours are needed")
         parts.append(np.broadcast_to(np.asarray(neighbours, float),
                                      lead + (3 * layout.neighbours,)))
+    if layout.camera:
+        if camera is None:
+            raise ValueError("this layout has the camera block: the camera row is needed")
+        parts.append(np.broadcast_to(np.asarray(camera, float), lead + (layout.camera_bins,)))
     return np.concatenate(parts, axis=-1)
