@@ -18,11 +18,11 @@ from epuck_vrep_compat.vrep.group_data import group_data
 REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 
 
-def make_backend(world, robots):
+def make_backend(world, robots, model_dirs=()):
     sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)),
                            SimulationConfig(robots))
     return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
-                       models=ModelLibrary(os.path.join(REPO, "models")))
+                       models=ModelLibrary(os.path.join(REPO, "models"), model_dirs))
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +99,7 @@ def test_an_epuck_refuses_a_pose_beyond_the_world():
 def test_a_big_model_file_is_refused_before_it_is_parsed(tmp_path):
     path = tmp_path / "big.yaml"
     path.write_text("robot: epuck\nfiller: [" + "1, " * (MAX_MODEL_FILE_BYTES // 3) + "1]\n")
-    backend = make_backend("arena.yaml", [])
+    backend = make_backend("arena.yaml", [], [str(tmp_path)])
     with pytest.raises(VrepError, match="at most"):
         backend.read_model(str(path))
     assert backend.sim.epucks.size == 0
