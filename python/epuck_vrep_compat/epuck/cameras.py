@@ -17,18 +17,26 @@ from epuck_vrep_compat.geometry.transforms import compose, quat_from_yaw, quat_m
 def render_robot_cameras(epucks, names: Sequence[str], threads: int = 1) -> np.ndarray:
     """The colour images (K, H, W, 3) uint8 of the named robots' cameras of ``epucks`` (the
     ``EpuckRobots``), each equal to its ``VisionSensor.render``, on up to ``threads`` threads."""
-    spec = epucks.camera
-    if not names:
-        return np.zeros((0, spec.height, spec.width, 3), np.uint8)
     rows = [epucks.robot_index(n) for n in names]
     mounts = [epucks.robots[r].parts["camera"] for r in rows]
-    x, y, yaw = epucks.swarm.poses[rows].T
-    root_position = np.column_stack((x, y, np.zeros(len(rows))))
+    return render_cameras(epucks.sim.world, epucks.camera, epucks.swarm.poses[rows],
+                          [m.local_position for m in mounts], [m.local_quat for m in mounts],
+                          [m.properties["vision"].ignore_handle for m in mounts], threads)
+
+
+def render_cameras(world, spec, poses, mount_positions, mount_quats, ignore_handles,
+                   threads: int = 1) -> np.ndarray:
+    """The colour images (K, H, W, 3) uint8 of K cameras (``spec``, a ``CameraSpec``) mounted
+    at (``mount_positions``, ``mount_quats``) on robots standing at ``poses`` (K, 3: x, y,
+    yaw) in the collision ``world``, each not seeing its ``ignore_handles`` entry (its own
+    body): the simulator's robots and the learning worlds' alike."""
+    if len(poses) == 0:
+        return np.zeros((0, spec.height, spec.width, 3), np.uint8)
+    x, y, yaw = np.asarray(poses, dtype=float).T
+    root_position = np.column_stack((x, y, np.zeros(len(x))))
     position, quat = compose(root_position, quat_from_yaw(yaw),
-                             np.array([m.local_position for m in mounts]),
-                             np.array([m.local_quat for m in mounts]))
-    ignore = [m.properties["vision"].ignore_handle for m in mounts]
-    world = epucks.sim.world
+                             np.asarray(mount_positions, dtype=float).reshape(-1, 3),
+                             np.asarray(mount_quats, dtype=float).reshape(-1, 4))
     return world.render_rgb_batch(position, quat_mul(quat, VISION_TO_CAMERA), spec.width,
                                   spec.height, spec.vertical_fov_rad, spec.near_m, spec.far_m,
-                                  ignore, threads=threads)
+                                  list(ignore_handles), threads=threads)

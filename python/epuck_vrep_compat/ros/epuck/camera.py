@@ -13,11 +13,12 @@ import rospy
 from sensor_msgs.msg import CameraInfo, Image
 
 from epuck_vrep_compat.compat import epuck_names
+from epuck_vrep_compat.epuck.cameras import render_robot_cameras
+from epuck_vrep_compat.policy.observation import gray_levels
 from epuck_vrep_compat.ros.face import Face, Step
 from epuck_vrep_compat.ros.messages import camera_info
 from epuck_vrep_compat.ros.transport.step_batch import synchronous_publisher
 from epuck_vrep_compat.ros.transport.wire import ImageWire
-from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 
 
 class _Watch(rospy.SubscribeListener):
@@ -75,15 +76,10 @@ class CameraFace(Face):
             return
         images = render_robot_cameras(self.sim.epucks, [c.robot for c in due])
         if self.mode == "gray":
-            images = _luma(images)
+            images = gray_levels(images).astype(np.uint8)     # the drivers' gray mode
         for camera, image in zip(due, images):
             camera.next_due_s = now + self._period_s
             step.batch.add_frame(camera.image, camera.frame(step.secs, step.nsecs, image))
-
-
-def _luma(rgb: np.ndarray) -> np.ndarray:
-    """ITU-R BT.601 luma of rgb8 images (..., 3), rounded, as mono8."""
-    return np.rint(rgb @ np.array([0.299, 0.587, 0.114])).clip(0, 255).astype(np.uint8)
 
 
 class _Camera:
