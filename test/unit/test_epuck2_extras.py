@@ -95,6 +95,21 @@ def test_the_extra_sensors_after_steps_and_after_reset():
     assert s.battery_v[0] == pytest.approx(4.2)
 
 
+def test_a_robot_added_again_under_a_removed_ones_name_gets_a_full_battery():
+    sim, s = two_robot_sim(noise=False)
+    sim.epucks.robot_namer = lambda number: "a"       # the next robot is named as the first
+    for _ in range(20):
+        sim.step()
+    assert s.battery_v[0] == pytest.approx(4.2 - 0.08)
+    sim.epucks.remove_robot("a")
+    sim.epucks.add_robot((0.3, -0.3))
+    sim.step()
+    names = sim.epucks.robot_names
+    assert names == ["b", "a"]
+    assert s.battery_v[names.index("a")] == pytest.approx(4.2)           # new, not 1 s old
+    assert s.battery_v[names.index("b")] == pytest.approx(4.2 - 0.84 / 10.0)
+
+
 def test_the_extra_sensors_noise_replays_with_the_seed():
     def run(seed):
         sim, s = two_robot_sim(seed)

@@ -95,7 +95,9 @@ class Epuck2Sensors(SimulationExtension):
             self._tof = TofSensorArray(np.asarray(s.tof_mount_m), s.tof_pitch_rad,
                                        stddev_m=s.tof_stddev_m, stddev_rel=s.tof_stddev_rel,
                                        seed=self.tof_seed)
-        self._born_s = {}            # robot name -> simulated time it appeared (or reset)
+        # robot (its noise stream id: never given twice, unlike a name) -> simulated time it
+        # appeared (or the last reset)
+        self._born_s = {}
         self.tof_m = np.zeros(0)
         self.mag_tesla = np.zeros((0, 3))
         self.battery_v = np.zeros(0)
@@ -118,7 +120,7 @@ class Epuck2Sensors(SimulationExtension):
         if "mag_field" in wanted:
             self.mag_tesla = self._magnetometer(c, sn, noise)
         if "battery" in wanted:
-            self.battery_v = self._battery(epucks.robot_names, sim.time_s)
+            self.battery_v = self._battery(list(swarm.stream_ids), sim.time_s)
         if "floor" in wanted:
             self.floor = self._floor(poses, c, sn)
         if "microphone" in wanted:
@@ -133,9 +135,12 @@ class Epuck2Sensors(SimulationExtension):
             mag += s.mag_stddev_tesla * hashed_normals(self.mag_seed, ids, self.sim.frame, 3)
         return mag
 
-    def _battery(self, names, now_s):
+    def _battery(self, robots, now_s):
         s = self.settings
-        born = np.array([self._born_s.setdefault(name, now_s) for name in names])
+        if len(self._born_s) > len(robots):                 # some went: forget them
+            alive = set(robots)
+            self._born_s = {r: t for r, t in self._born_s.items() if r in alive}
+        born = np.array([self._born_s.setdefault(r, now_s) for r in robots])
         used = (now_s - born) / s.battery_discharge_s
         return np.maximum(s.battery_full_v - (s.battery_full_v - s.battery_empty_v) * used,
                           s.battery_empty_v)
@@ -146,10 +151,6 @@ class Epuck2Sensors(SimulationExtension):
         y = poses[:, 1:2] + sn[:, None] * gx + c[:, None] * gy
         rgb = floor_rgb(self._regions, self._floor_base, np.stack((x, y), axis=2).reshape(-1, 2))
         return np.rint(1000.0 * rgb.mean(axis=1)).astype(np.int64).reshape(-1, 3)
-
-    def forget(self, removed: set) -> None:
-        names = set(self.epucks.robot_names)
-        self._born_s = {n: t for n, t in self._born_s.items() if n in names}
 
     def reset(self) -> None:
         if self._tof is not None:
