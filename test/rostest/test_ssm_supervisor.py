@@ -3,7 +3,7 @@
 workspace and out. With the supervisor on, the separation (measured by the test itself through
 /vrep/operator_separation, ground truth) never falls below C while the arm moves, the arm stops
 and resumes; with it off, the same walk comes closer. A supervisor fed by the test as a tracker
-would be stops its arm, and says why, on a non-finite or stale estimate."""
+would be stops its arm, and says why, on a non-finite, stale or frozen estimate."""
 import math
 import threading
 import time
@@ -138,6 +138,25 @@ class SsmSupervisor(unittest.TestCase):
         self.assertEqual(scale.latest().data, 0.0)
         self.assertTrue(any("SIX stopped: operator estimate stale" in w
                             for w in self.guard.warnings))
+
+    def test_3_a_frozen_tracker_stops_the_arm(self):
+        """A tracker that hangs and keeps sending its last estimate (the same stamp): the
+        estimate ages past ~stale_s and the arm stops, as if nothing came."""
+        pub = rospy.Publisher("/test_tracker/pose", PoseWithCovarianceStamped, queue_size=1)
+        status = Collector("/ssm_tracked/SIX/status", String)
+        scale = Collector("/ssm_tracked/SIX/scale", Float64)
+        self.wait_status(status, "ok", lambda: self.publish_estimate(pub, -2.0, 2.0))
+        scale.wait_for(lambda m: m.data > 0.0, what="a scale above 0")
+        frozen = rospy.Time.now()
+        self.wait_status(status, "stale",
+                         lambda: self.publish_estimate(pub, -2.0, 2.0, stamp=frozen))
+        scale.wait_for(lambda m: m.data == 0.0, what="scale 0 (a protective stop)")
+        # it stays stopped while the frozen estimate keeps coming
+        for _ in range(10):
+            self.publish_estimate(pub, -2.0, 2.0, stamp=frozen)
+            wait_sim_time(0.05)
+        self.assertEqual(scale.latest().data, 0.0)
+        self.assertIn("stale", status.latest().data)
 
     def test_9_no_errors_logged(self):
         self.assertEqual(self.guard.errors, [])
