@@ -64,8 +64,11 @@ def _launch(task, run_dir):
         port = isolation.free_port()
         ros_home = os.path.join(run_dir, "ros_home")
         os.makedirs(os.path.join(ros_home, "log"), exist_ok=True)
-        env = isolation.run_environment(os.environ, port, ros_home, task.network, task.marker,
-                                        f"{task.marker}:{task.key}:{task.attempt}")
+        # the run marker names this execution (its folder): Dask runs a task again, same key
+        # and attempt, when its worker dies, and the two shepherds must not end each other's
+        env = isolation.run_environment(
+            os.environ, port, ros_home, task.network, task.marker,
+            f"{task.marker}:{task.key}:{task.attempt}:{os.path.basename(run_dir)}")
         if task.package_path:
             env["ROS_PACKAGE_PATH"] = launch_files.package_path(task.package_path, env)
         job = {"command": ["roslaunch", "--disable-title",
