@@ -21,14 +21,17 @@ void bind_batched(py::module_& m) {
   using bindings::MatrixRef;
   using bindings::vec3;
   using bindings::VectorRef;
-  py::class_<BatchedWorlds>(
+  py::class_<BatchedWorlds> batched(
       m, "BatchedWorlds",
       "B independent worlds of R e-pucks each (own obstacles, robots, noise streams, seed), "
       "stepped in one call without the GIL. Every per-robot array has N = B * R rows, row "
       "world * R + robot. A world gives exactly the arrays of a standalone EpuckSwarm on a "
       "CollisionWorld with the same obstacles (handles 0, 1, ... in the order added), robot r "
       "under handle ROBOT_HANDLE_BASE + r, the same seed and commands. Output properties are "
-      "copies (fresh arrays), filled in C++ by the step.")
+      "copies (fresh arrays), filled in C++ by the step.");
+  bindings::bind_noise_setters(batched,
+                               "IR noise per robot and sensor, each (N, K); all or nothing.");
+  batched
       .def(py::init<const EpuckModel&, int, int, const std::vector<std::uint64_t>&>(),
            "model"_a, "worlds"_a, "robots"_a, "seeds"_a,
            "worlds x robots e-pucks, world b seeded with seeds[b]; robots start on a 10 cm grid "
@@ -69,14 +72,6 @@ void bind_batched(py::module_& m) {
       .def("reset_world", &BatchedWorlds::reset_world, "world"_a, "seed"_a,
            "Starts one world over: frame 0, noise streams from seed, velocities and readings "
            "cleared; poses, obstacles and noise settings stay (set poses with set_pose).")
-      .def("set_ir_noise", &BatchedWorlds::set_ir_noise, "probability"_a, "mean_m"_a,
-           "stddev_m"_a, "IR noise per robot and sensor, each (N, K); all or nothing.")
-      .def("set_imu_noise", &BatchedWorlds::set_imu_noise, "accel_stddev"_a, "gyro_stddev"_a,
-           "IMU noise SD per robot and axis, each (N, 3): m/s^2 and rad/s.")
-      .def("set_imu_bias", &BatchedWorlds::set_imu_bias, "accel_bias"_a, "gyro_bias"_a,
-           "Constant IMU bias per robot and axis, each (N, 3): m/s^2 and rad/s.")
-      .def("set_slip_noise", &BatchedWorlds::set_slip_noise, "stddev"_a,
-           "Relative wheel-speed noise SD per robot, (N,).")
       .def("step", &BatchedWorlds::step, "dt_s"_a, "wheel_cmd"_a,
            py::call_guard<py::gil_scoped_release>(),
            "Steps every world once by dt_s with wheel commands (N, 2) = (left, right) rad/s "

@@ -1,4 +1,4 @@
-// Argument conversions shared by the binding translation units (core_module.cpp,
+// Argument conversions and bindings shared by the binding translation units (core_module.cpp,
 // cell_bindings.cpp): poses from numpy vectors, named ValueErrors, numpy copies of results.
 #pragma once
 
@@ -9,6 +9,7 @@
 
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
 
 #include "epuck_vrep_compat/world/types.hpp"
 
@@ -48,6 +49,20 @@ pybind11::array_t<T> array_copy(const std::vector<T>& data,
   pybind11::array_t<T> out(shape);
   std::memcpy(out.mutable_data(), data.data(), data.size() * sizeof(T));
   return out;
+}
+
+// The noise setters EpuckSwarm and BatchedWorlds share (one API, so that Python's
+// NoiseSettings.apply sets either): IR, IMU noise and bias, wheel slip, N rows each.
+template <typename T>
+void bind_noise_setters(pybind11::class_<T>& cls, const char* ir_doc) {
+  using namespace pybind11::literals;
+  cls.def("set_ir_noise", &T::set_ir_noise, "probability"_a, "mean_m"_a, "stddev_m"_a, ir_doc)
+      .def("set_imu_noise", &T::set_imu_noise, "accel_stddev"_a, "gyro_stddev"_a,
+           "IMU noise SD per robot and axis, each (N, 3): m/s^2 and rad/s.")
+      .def("set_imu_bias", &T::set_imu_bias, "accel_bias"_a, "gyro_bias"_a,
+           "Constant IMU bias per robot and axis, each (N, 3): m/s^2 and rad/s.")
+      .def("set_slip_noise", &T::set_slip_noise, "stddev"_a,
+           "Relative wheel-speed noise SD per robot, (N,).");
 }
 
 }  // namespace bindings

@@ -248,9 +248,11 @@ void bind_model(py::module_& m) {
 }
 
 void bind_swarm(py::module_& m) {
-  py::class_<EpuckSwarm>(m, "EpuckSwarm",
-                         "N e-pucks stepped together; adds their bodies to the world, which "
-                         "it keeps alive.")
+  py::class_<EpuckSwarm> swarm(m, "EpuckSwarm",
+                               "N e-pucks stepped together; adds their bodies to the world, "
+                               "which it keeps alive.");
+  bindings::bind_noise_setters(swarm, "IR noise per robot and sensor, each (N, K).");
+  swarm
       .def(py::init<CollisionWorld&, const EpuckModel&, std::uint64_t>(), "world"_a, "model"_a,
            "seed"_a, py::keep_alive<1, 2>(), "ValueError for an invalid model.")
       .def("add_robot", &EpuckSwarm::add_robot, "handle"_a, "x"_a, "y"_a, "yaw"_a,
@@ -260,14 +262,6 @@ void bind_swarm(py::module_& m) {
            "and noise streams. IndexError for a bad index.")
       .def_property_readonly("size", &EpuckSwarm::size, "Number of robots.")
       .def_property_readonly("sensor_count", &EpuckSwarm::sensor_count, "IR sensors per robot.")
-      .def("set_ir_noise", &EpuckSwarm::set_ir_noise, "probability"_a, "mean_m"_a,
-           "stddev_m"_a, "IR noise per robot and sensor, each (N, K).")
-      .def("set_imu_noise", &EpuckSwarm::set_imu_noise, "accel_stddev"_a, "gyro_stddev"_a,
-           "IMU noise SD per robot and axis, each (N, 3): m/s^2 and rad/s.")
-      .def("set_imu_bias", &EpuckSwarm::set_imu_bias, "accel_bias"_a, "gyro_bias"_a,
-           "Constant IMU bias per robot and axis, each (N, 3): m/s^2 and rad/s.")
-      .def("set_slip_noise", &EpuckSwarm::set_slip_noise, "stddev"_a,
-           "Relative wheel-speed noise SD per robot, (N,).")
       .def("reseed", &EpuckSwarm::reseed, "seed"_a, "Restarts every noise stream from seed.")
       .def("step", &EpuckSwarm::step, "dt_s"_a, "wheel_cmd"_a,
            py::call_guard<py::gil_scoped_release>(),
