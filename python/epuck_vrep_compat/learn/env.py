@@ -27,6 +27,13 @@ def spaces(layout):
             gym.spaces.Box(-1.0, 1.0, (2,), dtype=np.float32))
 
 
+def check_render_mode(render_mode):
+    """``render_mode`` if the environments offer it (None or ``rgb_array``), else ValueError."""
+    if render_mode not in (None, "rgb_array"):
+        raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+    return render_mode
+
+
 class EpuckEnv(gym.Env):
     """One e-puck learning ``task`` (``obstacle_avoidance``, ``aggregation``,
     ``follow_leader``) in one world; ``noise`` a preset (``real_robot``, ``vrep``, ``ideal``),
@@ -40,9 +47,7 @@ class EpuckEnv(gym.Env):
                  noise: str = "real_robot", robots=None, imu: bool = False,
                  episode_steps: int = 400, camera: bool = False,
                  camera_bins: int = CAMERA_BINS, camera_spec=None):
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        self.render_mode = render_mode
+        self.render_mode = check_render_mode(render_mode)
         self.worlds = Worlds(make_task(task, robots, imu, camera, camera_bins), 1, noise,
                              episode_steps=episode_steps, camera=camera_spec)
         self.observation_space, self.action_space = spaces(self.worlds.layout)

@@ -9,10 +9,20 @@ import functools
 import numpy as np
 from pettingzoo import ParallelEnv
 
-from epuck_vrep_compat.learn.env import METADATA, spaces
+from epuck_vrep_compat.learn.env import METADATA, check_render_mode, spaces
 from epuck_vrep_compat.learn.tasks import make_task
 from epuck_vrep_compat.learn.worlds import Worlds
 from epuck_vrep_compat.policy.observation import CAMERA_BINS
+
+
+def swarm_worlds(task: str, robots, worlds: int, noise: str, imu: bool, episode_steps: int,
+                 camera: bool, camera_bins: int, camera_spec) -> Worlds:
+    """``worlds`` worlds of ``task`` whose agents are every robot but a leader (``robots``:
+    None is 4 for obstacle avoidance, else the task's number)."""
+    if robots is None and task == "obstacle_avoidance":
+        robots = 4
+    return Worlds(make_task(task, robots, imu, camera, camera_bins), worlds, noise,
+                  episode_steps=episode_steps, camera=camera_spec, multi_agent=True)
 
 
 class EpuckParallelEnv(ParallelEnv):
@@ -23,13 +33,9 @@ class EpuckParallelEnv(ParallelEnv):
     def __init__(self, task: str = "aggregation", robots=None, render_mode=None,
                  noise: str = "real_robot", imu: bool = False, episode_steps: int = 400,
                  camera: bool = False, camera_bins: int = CAMERA_BINS, camera_spec=None):
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        if robots is None and task == "obstacle_avoidance":
-            robots = 4
-        self.render_mode = render_mode
-        self.worlds = Worlds(make_task(task, robots, imu, camera, camera_bins), 1, noise,
-                             episode_steps=episode_steps, camera=camera_spec, multi_agent=True)
+        self.render_mode = check_render_mode(render_mode)
+        self.worlds = swarm_worlds(task, robots, 1, noise, imu, episode_steps, camera,
+                                   camera_bins, camera_spec)
         self.possible_agents = [f"epuck_{r}" for r in self.worlds.agents]
         self.agents = []
         self._spaces = spaces(self.worlds.layout)

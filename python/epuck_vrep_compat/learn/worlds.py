@@ -146,6 +146,14 @@ class Worlds:
         return {"in_contact": bool(self.contact[row]),
                 "pose": self.poses[row].copy(), "elapsed_steps": int(self.elapsed[world])}
 
+    def agent_infos(self) -> dict:
+        """:meth:`info` of every agent at once: ``in_contact`` (B, A), ``pose`` (B, A, 3),
+        ``elapsed_steps`` (B,), new arrays."""
+        B, R = self.count, self.robots
+        return {"in_contact": self.contact.reshape(B, R)[:, self.agents],
+                "pose": self.poses.reshape(B, R, 3)[:, self.agents],
+                "elapsed_steps": self.elapsed.copy()}
+
     def draw(self, world: int) -> np.ndarray:
         """The RGB array (256, 256, 3) of one world."""
         if self._painter is None:
