@@ -9,7 +9,9 @@ this package registers the Gymnasium ids:
   ``episode_steps``, ``camera_spec``, ``render_mode``) are ``EpuckEnv``'s.
 
 The swarm: ``epuck_vrep_compat.learn.parallel.EpuckParallelEnv(task=...)``, a PettingZoo
-``ParallelEnv``. Observations come from the policy package's builder, which ``policy_node``
+``ParallelEnv``; batched over B worlds, ``parallel_vector.EpuckParallelVectorEnv`` (dicts of
+arrays or arrays (B, A, ...)) and its Gymnasium view of B x A agents,
+``flat_vector.EpuckFlatVectorEnv``. Observations come from the policy package's builder, which ``policy_node``
 uses on the ROS topics (docs/learning.md).
 """
 import gymnasium
