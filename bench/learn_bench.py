@@ -21,7 +21,9 @@ What is timed, each configuration in a fresh process pinned to one CPU (--cpu):
   missing): Enki's library from C++ at the same 50 ms step, its Braitenberg controller in C++
   reading the IR sensors.
 Memory per world: resident memory added by building the B worlds and stepping them once,
-divided by B.
+divided by B. In a table of its own, the swarm's batched PettingZoo environment through each
+form of its interface (``--peers swarm``, bench/learn_swarm.py: the learning task's arena, so
+not the same worlds; R <= 10).
 
 Run on an idle machine: ``/usr/bin/python3 bench/learn_bench.py`` (a few minutes; add
 ``--json`` for the records). ``--robot-steps`` and ``--peer-robot-steps`` set how much is timed.
@@ -40,6 +42,8 @@ import time
 # (seen in perf as sched_yield, 15 % of the samples). Set before numpy loads it.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
+
+import learn_swarm  # noqa: E402 (beside this script)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CONFIGS = ((1, 1000), (100, 10), (1000, 1))
@@ -197,7 +201,11 @@ def run_enki_cpp(worlds, robots, steps, seed):
             "memory_per_world_kb": 1e3 * record["rss_growth_mb"] / worlds}
 
 
-WORKERS = {"ours": run_ours, "pyenki": run_pyenki, "enki_cpp": run_enki_cpp}
+def run_swarm(worlds, robots, steps, seed):
+    return learn_swarm.run_swarm(worlds, robots, steps, seed, rss_mb)
+
+
+WORKERS = {"ours": run_ours, "pyenki": run_pyenki, "enki_cpp": run_enki_cpp, "swarm": run_swarm}
 
 
 def in_child(peer, worlds, robots, steps, seed):
@@ -267,8 +275,8 @@ def parse_args(argv):
                         help="robot-steps timed per configuration, ours and Enki C++")
     parser.add_argument("--peer-robot-steps", type=float, default=5e4,
                         help="robot-steps timed per configuration for pyenki")
-    parser.add_argument("--peers", default="ours,pyenki,enki_cpp",
-                        help="comma-separated subset of ours, pyenki, enki_cpp")
+    parser.add_argument("--peers", default="ours,pyenki,enki_cpp,swarm",
+                        help="comma-separated subset of ours, pyenki, enki_cpp, swarm")
     parser.add_argument("--configs", default=",".join(f"{b}x{r}" for b, r in CONFIGS),
                         help="comma-separated BxR configurations (worlds x robots)")
     parser.add_argument("--cpu", type=int, default=min(os.sched_getaffinity(0)),
@@ -293,13 +301,20 @@ def main(argv=None):
     configs = [tuple(int(v) for v in c.split("x")) for c in args.configs.split(",")]
     for worlds, robots in configs:
         for peer in args.peers.split(","):
+            if peer == "swarm" and robots > learn_swarm.MAX_ROBOTS:
+                continue
             budget = args.peer_robot_steps if peer == "pyenki" else args.robot_steps
             steps = max(10, round(budget / (worlds * robots)))
             record = in_child(peer, worlds, robots, steps, args.seed)
             records.append(record)
             if args.json:
                 print(json.dumps(record), flush=True)
-    print(markdown_table(records))
+    others = [r for r in records if r["peer"] != "swarm"]
+    if others:
+        print(markdown_table(others))
+    swarm = learn_swarm.swarm_table(records, _rate)
+    if swarm:
+        print("\n" + swarm)
 
 
 if __name__ == "__main__":
