@@ -7,6 +7,7 @@ import pytest
 from gymnasium.utils.env_checker import data_equivalence
 from gymnasium.utils.passive_env_checker import check_action_space, check_observation_space
 from gymnasium.wrappers.vector import RecordEpisodeStatistics
+from pettingzoo.test import parallel_seed_test
 
 from epuck_vrep_compat.learn.flat_vector import EpuckFlatVectorEnv
 from epuck_vrep_compat.learn.parallel import EpuckParallelEnv
@@ -84,6 +85,14 @@ def test_world_b_is_the_parallel_env_seeded_with_its_seed(task):
         assert_world_is_run(batch, b, one_world_run(task, 30 + b, actions[:, b]),
                             env.possible_agents)
     assert not np.array_equal(batch[1][0][0], batch[1][0][1])    # the worlds differ
+
+
+def test_pettingzoo_seed_test_applies_to_the_dict_form():
+    """PettingZoo's parallel seed test compares two environments with data_equivalence, which
+    takes dicts of arrays too (it stops after the first step: ``any`` of a dict is its keys');
+    its API test needs a scalar reward per agent, so it is the one-world env's
+    (test_learn_envs.py)."""
+    parallel_seed_test(lambda: EpuckParallelVectorEnv(3, "aggregation", episode_steps=EPISODE))
 
 
 def test_world_seeds_option_seeds_each_world():
