@@ -7,8 +7,8 @@ At 1000 robots a node holds about 18 000 registrations: 7-9 s of the master's ti
 node would spend waiting before it could exit. So the stopping node writes the calls to a file
 and starts this module as a process of its own session (:func:`hand_off`); the node exits at
 once, and this process sends the calls in ``system.multicall`` batches, waits for the master's
-answers and ends (quietly: nobody reads its output, and a master that has gone has nothing
-left to withdraw). Unregistrations name the stopped node's own URIs, so they never remove the
+answers and ends (quietly: nobody reads its output; a master that has gone has nothing left
+to withdraw, and one that does not answer a batch within ``ANSWER_S`` is left as it is). Unregistrations name the stopped node's own URIs, so they never remove the
 registrations of a node started meanwhile under the same name.
 
 Standard library only: it runs in a fresh interpreter, and the less it imports the sooner the
@@ -16,12 +16,14 @@ master hears from it.
 """
 import json
 import os
+import socket
 import subprocess
 import sys
 import tempfile
 import xmlrpc.client
 
 BATCH = 2000        # calls in one multicall: the master answers each batch in about 1 s
+ANSWER_S = 30.0     # a master that answers no batch within this is left as it is
 
 
 def multicall(master, calls):
@@ -65,6 +67,7 @@ def main(path: str):
     with open(path) as f:
         spec = json.load(f)
     os.unlink(path)
+    socket.setdefaulttimeout(ANSWER_S)     # never outlive a master that stopped answering
     send(xmlrpc.client.ServerProxy(spec["master_uri"]), [tuple(c) for c in spec["calls"]])
 
 
