@@ -1,4 +1,4 @@
-"""Stopping the simulator node in about a second, at any size, whoever is subscribed.
+"""Stopping the simulator node in seconds at any size, whoever is subscribed.
 
 rospy's own way out of a node (its SIGINT handler calling ``signal_shutdown`` in the middle of
 whatever the main thread does) took 7-18 s at 1000 robots with one subscriber to everything:
@@ -9,7 +9,8 @@ closed topic raised a ``TypeError`` in ``remove_connection``. roslaunch escalate
 after 15 s and to SIGKILL after 2 more, and a bag recorded through the stop lost its end.
 
 Here SIGINT and SIGTERM only ask the step loop to stop (:class:`StopRequest`); the loop ends
-after the step under way, and :func:`stop_node` then, on the main thread:
+after the step under way, and :func:`stop_node` then, on the main thread and under the
+simulation's lock (no ``~step`` or ``/vrep`` call publishes meanwhile):
 
 1. refuses new TCPROS connections (``accept_queue.stop_accepting``), and switches off rospy's
    periodic connection check, so no thread touches a topic about to close;
@@ -17,8 +18,8 @@ after the step under way, and :func:`stop_node` then, on the main thread:
    the stop;
 3. hands every registration's withdrawal to a process of its own that sends them to the master
    in ``system.multicall`` batches (``registration.withdraw_all``, ``transport/withdraw.py``:
-   the master needs about 0.5 ms for each, 7-9 s at 1000 robots, which the node does not wait
-   for), after start-up's bulk registration has stopped; rospy is left nothing to unregister;
+   the master needs about 0.5 ms for each, so some 7-9 s for 1000 robots' 18 000, which the
+   node does not wait for), after start-up's bulk registration has stopped; rospy is left nothing to unregister;
 4. closes every connection and topic once (rospy's topic manager), so that each subscriber
    reads to the end of what was sent (a process that ends with data unread on a socket resets
    the connection instead);
