@@ -33,6 +33,8 @@ import rospy
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Float64
 
+from run_benchmark import end_group
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -141,12 +143,7 @@ def run(rtf, seconds, safety=False):
     finally:
         if sub is not None and sub.poll() is None:
             sub.kill()
-        if launch is not None and launch.poll() is None:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
+        end_group(launch, 30.0)
         rospy.signal_shutdown("benchmark done")
         master.terminate()
         master.wait(timeout=30)

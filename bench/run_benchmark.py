@@ -63,6 +63,19 @@ PROFILE_TOPICS = {"vrep": ("/ePuck{i}/cmd_vel", r"^/(ePuck\d+/.*|tf)$", r"^/ePuc
                                     r"^/(epuck_robot_\d+/.*|tf)$", r"^/epuck_robot_(\d+)/")}
 
 
+def end_group(proc, timeout_s):
+    """SIGINT to a process started in a session of its own and everything it started (as
+    Ctrl-C would), SIGKILL after ``timeout_s``; waits for it."""
+    if proc is None or proc.poll() is not None:
+        return
+    os.killpg(proc.pid, signal.SIGINT)
+    try:
+        proc.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))

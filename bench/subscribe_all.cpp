@@ -13,9 +13,10 @@
 // "wall_s" runs from the first master scan to the end. SIGUSR1 zeroes the counters and restarts
 // that clock, so a benchmark can count over an exact window once every subscription is
 // connected. Diagnostics go to stderr only; with --progress S, every S seconds one JSON line
-//   {"progress_s":t,"topics":n,"publishers":p,"delivered":d}
+//   {"progress_s":t,"topics":n,"publishers":p,"delivered":d,"messages":m}
 // (topics with a publisher connection, topics that have delivered a message since the start,
-// whatever SIGUSR1 reset), so a benchmark can tell when every subscription delivers.
+// whatever SIGUSR1 reset, and messages received since the start or the last SIGUSR1), so a
+// benchmark can tell when every subscription delivers, and count what arrives as it goes.
 
 #include <ros/callback_queue.h>
 #include <ros/master.h>
@@ -141,12 +142,15 @@ class TopicCounter {
   void printProgress(double seconds) const {
     std::size_t publishers = 0;
     std::size_t delivered = 0;
+    std::uint64_t messages = 0;
     for (const auto& entry : counts_) {
       if (entry.second.subscriber.getNumPublishers() > 0) ++publishers;
       if (entry.second.delivered) ++delivered;
+      messages += entry.second.messages;
     }
     std::fprintf(stderr, "{\"progress_s\":%.1f,\"topics\":%zu,\"publishers\":%zu,"
-                 "\"delivered\":%zu}\n", seconds, counts_.size(), publishers, delivered);
+                 "\"delivered\":%zu,\"messages\":%llu}\n", seconds, counts_.size(), publishers,
+                 delivered, static_cast<unsigned long long>(messages));
     std::fflush(stderr);
   }
 

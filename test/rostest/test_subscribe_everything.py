@@ -11,9 +11,6 @@ arrive together, as roscpp's do: every one must reach the simulator and deliver,
 simulator's descriptors must grow with its connections, not with its topics.
 """
 import os
-import select
-import socket
-import struct
 import time
 import unittest
 import xmlrpc.client
@@ -23,54 +20,13 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 
+from raw_tcpros import RawSubscriber, pump, subscribe_all, tcpros_address
 from sim_test_helpers import PKG, simulator_topics, wait_for_message
 
 N = 10
 TIMEOUT_S = 30.0     # liveness only: with the queue widened every one connects within a second
 PER_STEP = [f"proximity{k}" for k in range(8)] + ["imu", "ground_truth"]
-CALLER_ID = "/test_subscribe_everything_raw"
-
-
-def tcpros_header(fields):
-    body = b"".join(struct.pack("<I", len(f)) + f for f in
-                    (f"{k}={v}".encode() for k, v in fields.items()))
-    return struct.pack("<I", len(body)) + body
-
-
-class RawSubscriber:
-    """One TCPROS subscription on a non-blocking socket: its header sent, its bytes counted."""
-
-    def __init__(self, topic, address):
-        self.topic = topic
-        self.sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        self.sock.setblocking(False)
-        self.sock.connect_ex(address)           # in flight: every connection at once
-        self.header = tcpros_header({"callerid": CALLER_ID, "topic": topic, "md5sum": "*",
-                                     "type": "*", "tcp_nodelay": "1"})
-        self.buffer = b""
-        self.messages = 0
-        self.sent = False
-
-    def send_header(self):
-        try:
-            self.sock.sendall(self.header)
-            self.sent = True
-        except BlockingIOError:
-            pass
-
-    def read(self):
-        """Take what arrived; count whole messages after the publisher's header."""
-        try:
-            data = self.sock.recv(1 << 16)
-        except BlockingIOError:
-            return
-        self.buffer += data
-        while len(self.buffer) >= 4:
-            size = struct.unpack("<I", self.buffer[:4])[0]
-            if len(self.buffer) < 4 + size:
-                break
-            self.buffer = self.buffer[4 + size:]
-            self.messages += 1                  # the first frame is the publisher's header
+CALLER_ID = RawSubscriber.CALLER_ID
 
 
 class SubscribeEverything(unittest.TestCase):
@@ -81,20 +37,8 @@ class SubscribeEverything(unittest.TestCase):
         published, _subscribed, _types = simulator_topics()
         cls.topics = sorted(published - {"/rosout"})
         cls.sim_uri = rosgraph.masterapi.Master(rospy.get_name()).lookupNode("/vrep")
-        code, msg, protocol = xmlrpc.client.ServerProxy(cls.sim_uri).requestTopic(
-            CALLER_ID, cls.topics[0], [["TCPROS"]])
-        assert code == 1, msg
-        address = (protocol[1], protocol[2])     # one TCPROS server serves every topic
-        cls.subs = {t: RawSubscriber(t, address) for t in cls.topics}
-        deadline = time.monotonic() + TIMEOUT_S
-        while time.monotonic() < deadline:
-            pending = [s for s in cls.subs.values() if not s.sent]
-            if not pending:
-                break
-            _r, writable, _x = select.select([], [s.sock for s in pending], [], 0.2)
-            for sub in pending:
-                if sub.sock in writable:
-                    sub.send_header()
+        address = tcpros_address(cls.sim_uri, cls.topics[0])
+        cls.subs = subscribe_all(cls.topics, address, TIMEOUT_S)
 
     @classmethod
     def tearDownClass(cls):
@@ -103,12 +47,7 @@ class SubscribeEverything(unittest.TestCase):
 
     def pump(self, until, timeout_s=TIMEOUT_S):
         """Read every socket until ``until()`` holds or the time is up."""
-        deadline = time.monotonic() + timeout_s
-        while not until() and time.monotonic() < deadline:
-            readable, _w, _x = select.select([s.sock for s in self.subs.values()], [], [], 0.1)
-            for sub in self.subs.values():
-                if sub.sock in readable:
-                    sub.read()
+        pump(self.subs, until, timeout_s)
 
     def missing_at_the_simulator(self):
         _code, _msg, bus = xmlrpc.client.ServerProxy(self.sim_uri).getBusInfo(CALLER_ID)

@@ -1,12 +1,17 @@
 """BulkRegistration: rospy's registrations leave the creating thread and reach the master in
 order, in multicall batches, with subscribers' answers handed back to rospy (no master: a fake
 registrar and a fake XML-RPC master)."""
+import os
 import threading
+import time
+import types
+from xmlrpc.server import SimpleXMLRPCServer
 
 from rospy.impl.registration import Registration, get_topic_manager
 from rospy.impl.statistics import SubscriberStatisticsLogger
 
-from epuck_vrep_compat.ros.transport.registration import BulkRegistration
+from epuck_vrep_compat.ros.transport import registration, withdraw
+from epuck_vrep_compat.ros.transport.registration import BulkRegistration, withdraw_all
 
 TIMEOUT_S = 60.0
 
@@ -117,7 +122,7 @@ def test_subscribers_get_their_publishers_and_services_their_uri():
         registrar.reg_removed("/srv", "rosrpc://node:5/", Registration.SRV)
     assert bulk.wait(TIMEOUT_S)
     assert registrar.updates == [("/cmd", ["http://pub:1/"])]
-    sent = master.batches[0]
+    sent = [call for batch in master.batches for call in batch]   # however the thread split it
     assert sent[1][2:] == ("/srv", "rosrpc://node:5/", FakeRegistrar.uri)
     assert sent[2][0] == "unregisterService" and sent[2][2:] == ("/srv", "rosrpc://node:5/")
 
@@ -141,3 +146,101 @@ def test_rospys_per_topic_checks_pause_while_topics_are_created_and_come_back():
         assert "check_all" in vars(topics)
     assert SubscriberStatisticsLogger.__dict__["is_enabled"] is original
     assert "check_all" not in vars(topics)
+
+
+class FakeTopics:
+    """The parts of rospy's topic and service managers that unregister_all reads."""
+
+    def __init__(self, pubs=(), subs=(), services=()):
+        self.pubs, self.subs, self.services = list(pubs), list(subs), list(services)
+
+    def get_publications(self):
+        return [(name, "std_msgs/Empty") for name in self.pubs]
+
+    def get_subscriptions(self):
+        return [(name, "std_msgs/Empty") for name in self.subs]
+
+    def get_services(self):
+        return [(name, f"rosrpc://node:1/{name}") for name in self.services]
+
+
+class FakeListeners:
+    def __init__(self):
+        self.cleared = False
+
+    def clear(self):
+        self.cleared = True
+
+
+def test_stopping_hands_every_withdrawal_over_in_order_and_rospy_unregisters_nothing(
+        monkeypatch):
+    topics = FakeTopics([f"/p{i}" for i in range(5)], ["/s0", "/s1"], ["/srv"])
+    listeners = FakeListeners()
+    handed = []
+    monkeypatch.setattr(registration, "get_topic_manager", lambda: topics)
+    monkeypatch.setattr(registration, "get_service_manager", lambda: topics)
+    monkeypatch.setattr(registration, "get_registration_listeners", lambda: listeners)
+    monkeypatch.setattr(withdraw, "hand_off", lambda uri, calls: handed.append((uri, calls)))
+    cache = types.SimpleNamespace(d={"rosout_disable_topics_generation": False,
+                                     "ns": {"a": 1, "empty": {}}})
+    monkeypatch.setattr(registration, "get_param_server_cache", lambda: cache)
+    assert withdraw_all(FakeRegistrar()) == 11
+    [(uri, calls)] = handed
+    assert uri == FakeRegistrar.master_uri
+    assert [c[0] for c in calls] == ["unregisterPublisher"] * 5 + ["unregisterSubscriber"] * 2 \
+        + ["unregisterService"] + ["unsubscribeParam"] * 3
+    assert [c[1][1] for c in calls[:8]] == [f"/p{i}" for i in range(5)] + ["/s0", "/s1", "/srv"]
+    assert calls[0][1][2:] == (FakeRegistrar.uri,)
+    assert calls[7][1][2:] == ("rosrpc://node:1//srv",)
+    assert [c[1][1:] for c in calls[8:]] == [
+        (FakeRegistrar.uri, "/rosout_disable_topics_generation"), (FakeRegistrar.uri, "/ns/a"),
+        (FakeRegistrar.uri, "/ns/empty")]
+    assert listeners.cleared                  # closing a topic now calls no master
+
+
+def test_the_withdrawing_process_sends_in_batches_and_ends_when_the_master_is_gone():
+    calls = [("unregisterPublisher", ("/vrep", f"/t{i}", "http://node:1/")) for i in range(5)]
+    master = FakeMaster()
+    assert withdraw.send(master, calls, batch_size=2) == 5
+    assert [len(b) for b in master.batches] == [2, 2, 1]
+    assert [c[2] for b in master.batches for c in b] == [f"/t{i}" for i in range(5)]
+    assert withdraw.send(FakeMaster(failures=1), calls, batch_size=2) == 0
+
+
+def test_a_handed_over_withdrawal_reaches_a_master_from_a_process_of_its_own(tmp_path):
+    """The real hand-over: a process started from the file the node wrote, against a small
+    XML-RPC master in this test that records the multicalls it answers."""
+    server = SimpleXMLRPCServer(("127.0.0.1", 0), logRequests=False, allow_none=True)
+    server.register_multicall_functions()
+    got = []
+    server.register_function(lambda *args: (got.append(args), [1, "ok", 1])[1],
+                             "unregisterPublisher")
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        uri = f"http://127.0.0.1:{server.server_address[1]}/"
+        calls = [("unregisterPublisher", ["/vrep", f"/t{i}", "http://node:1/"]) for i in range(3)]
+        pid = withdraw.hand_off(uri, calls)
+        assert os.getsid(pid) == pid           # its own session: the node's group signals miss it
+        deadline = time.monotonic() + TIMEOUT_S
+        while len(got) < 3 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert [a[1] for a in got] == ["/t0", "/t1", "/t2"]
+    finally:
+        server.shutdown()
+
+
+def test_closing_drops_what_was_not_sent_and_nothing_is_queued_after():
+    registrar, master = FakeRegistrar(), FakeMaster()
+    master.gate.clear()                       # a first batch may be on its way, unanswered
+    bulk = BulkRegistration(registrar, batch_size=2, master=master)
+    with bulk:
+        register(registrar, 6)
+        closing = threading.Thread(target=bulk.close)
+        closing.start()                       # drops the queue, waits for the batch on its way
+        master.gate.set()
+        closing.join(TIMEOUT_S)
+        register(registrar, 2)                # after close: neither queued nor sent by rospy
+    sent = [call[2] for batch in master.batches for call in batch]
+    # at most the one batch that was on its way, the first registrations
+    assert len(sent) <= 2 and sent == [f"/t{i}" for i in range(len(sent))]
+    assert registrar.synchronous == []

@@ -1,5 +1,9 @@
 """LEDs (``cmd_led`` in, latched ``led_state`` out) and the rviz markers of the scene.
 
+``led_state`` goes through the step batch like every per-step topic, latched by it
+(``ros/transport/latched.py``): a late subscriber gets the last state at the next flush, and a
+subscriber to every robot's costs the node no writer thread per connection.
+
 The markers are latched and ``frame_locked`` to each robot's base_link, so rviz moves them with
 TF and they are re-sent only when an LED changes or the scene's objects change; every array
 starts with a DELETEALL, so a removed robot or obstacle leaves rviz too. The LED states are the
@@ -30,9 +34,11 @@ _LED_OFF = ColorRGBA(0.25, 0.1, 0.1, 1.0)
 class LedFace(Face):
     """Each robot's ``cmd_led`` and latched ``led_state``, and the scene's rviz markers."""
 
-    def __init__(self, profile, sim):
+    def __init__(self, profile, sim, batch):
+        """``batch``: the node's ``StepBatch``, which sends and latches ``led_state``."""
         self.profile = profile
         self.sim = sim
+        self.batch = batch
         self._lock = threading.Lock()
         self._robots = {}             # robot name -> _Leds
         self._seen_changes = -1       # the LED model's change count at the last publication
@@ -93,7 +99,8 @@ class LedFace(Face):
             state[name], stamp = entry
             if stamp != leds.sent:
                 leds.sent = stamp
-                leds.publisher.publish(UInt8MultiArray(data=bytes(state[name])))
+                step.batch.add_latched(leds.publisher,
+                                       UInt8MultiArray(data=bytes(state[name])))
         self._markers.publish(self._marker_array(state))
 
     def publish_idle(self, step: Step):
@@ -144,8 +151,8 @@ class _Leds:
     def __init__(self, face, name):
         profile = face.profile
         self.sent = None
-        self.publisher = rospy.Publisher(profile.topic(name, "led_state"), UInt8MultiArray,
-                                         queue_size=1, latch=True)
+        self.publisher = face.batch.latched_publisher(profile.topic(name, "led_state"),
+                                                      UInt8MultiArray)
         self._subscriber = rospy.Subscriber(profile.topic(name, "cmd_led"), UInt8MultiArray,
                                             face._on_cmd_led, name, queue_size=10)
         self._rgb = (rospy.Subscriber(profile.topic(name, "rgb_leds"), UInt8MultiArray,

@@ -39,6 +39,7 @@ from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.messages import time_stamp
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params, with_operator
+from epuck_vrep_compat.ros.node.stop import StopRequest, stop_node
 from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
                                                           share_connection_poller,
                                                           widen_accept_queue)
@@ -82,7 +83,7 @@ class SimulatorNode:
         self._clock = synchronous_publisher(CLOCK_TOPIC, Clock)
         self._tf_pub = synchronous_publisher(TF_TOPIC, TFMessage)
         self._tf_static = StaticTransforms()
-        self.leds = LedFace(profile, self.sim)
+        self.leds = LedFace(profile, self.sim, self._batch)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
                                 params.publish_ground_truth)
         self.tf = TfFace(profile, self.sim, self._tf_static)
@@ -209,8 +210,9 @@ class SimulatorNode:
             self._errors.error("publish", "publishing a step failed:\n%s",
                                traceback.format_exc())
 
-    def spin(self):
-        """Step at ``rtf`` times real time (or as fast as possible at 0) while running.
+    def spin(self, stop_requested=lambda: False):
+        """Step at ``rtf`` times real time (or as fast as possible at 0) while running, until
+        ``stop_requested()`` (checked after every step) or rospy shuts down.
 
         Messages are flushed before every sleep, so a simulation that keeps its schedule
         delivers every step at once; one that runs flat out flushes every ``max_delay_s``.
@@ -218,7 +220,7 @@ class SimulatorNode:
         period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
         deadline = time.monotonic()
         batch = self._batch
-        while not rospy.is_shutdown():
+        while not rospy.is_shutdown() and not stop_requested():
             if not self.control.may_step():
                 with self._lock:
                     step = self._step_info()
@@ -256,15 +258,17 @@ def main():
     first_master_pid = master_pid(NODE)
     raise_descriptor_limit()     # one per connection: 14 001 for 1000 robots, all subscribed
     share_connection_poller()    # not one more per topic
-    rospy.init_node(NODE_NAME)
+    rospy.init_node(NODE_NAME, disable_signals=True)
+    stop = StopRequest()         # SIGINT and SIGTERM end the loop, then stop_node
     widen_accept_queue()         # a subscriber to every topic at once loses none
     serve_get_loggers_safely()
     # watching from the start: rospy retries a vanished master forever while registering
     MasterWatch(first_master_pid)
+    registration = BulkRegistration()
     try:
         params = read_params(data_path("worlds", "arena.yaml"))
         # the master learns of the topics from a background thread while the node steps
-        with BulkRegistration():
+        with registration:
             node = SimulatorNode(params, data_path("models"))
     except (ParamError, SceneError, PackageNotFound) as e:
         rospy.logfatal("epuck_sim cannot start: %s", e)
@@ -275,5 +279,6 @@ def main():
                        rosgraph.get_master_uri(), e)
         return EXIT_MASTER_LOST
     rospy.loginfo("epuck_sim: %s", params.summary())
-    node.spin()
-    return 0
+    node.spin(stop.requested)
+    reason = f"{stop.signal_name or 'shutdown'} at t={node.sim.time_s:.3f} s"
+    stop_node(node._batch, node.sim.lock, registration, reason)     # ends the process

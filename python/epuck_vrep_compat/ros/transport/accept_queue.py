@@ -27,9 +27,15 @@ node never accepted another connection, to a topic or a service, for the rest of
 stay until it is removed, so each topic still finds its own), :func:`raise_descriptor_limit`
 lifts the soft limit to the hard one, and :func:`widen_accept_queue` also keeps the accept
 thread alive through a full descriptor table (it logs, waits and retries).
+
+When the node stops, :func:`stop_accepting` shuts the TCPROS listening socket first: rospy
+would go on accepting and handshaking new connections (taking its topic manager's lock for
+each) while it closes the topics, and a subscriber to everything kept a stopping node busy for
+seconds. Connections not yet accepted are refused; the thread blocked in ``accept`` ends.
 """
 import errno
 import resource
+import socket
 import time
 
 import rosgraph.xmlrpc
@@ -129,3 +135,18 @@ def widen_accept_queue(backlog: int = ACCEPT_QUEUE) -> bool:
         sock.listen(backlog)                   # on a listening socket: a new queue length
     return widened
 
+
+
+def stop_accepting():
+    """The node stops: no more TCPROS connections (topics and services). The listening socket
+    is shut down, not only closed, so that the thread blocked in its ``accept`` wakes and ends;
+    a subscriber that asks for a topic now (XML-RPC answers until the node ends) is refused."""
+    server = getattr(getattr(tcpros_base, "_tcpros_server", None), "tcp_ros_server", None)
+    sock = _tcpros_socket() if server is not None else None
+    if sock is None:
+        return
+    server.is_shutdown = True          # its accept loop ends instead of raising
+    try:
+        sock.shutdown(socket.SHUT_RDWR)
+    except OSError:                    # closed already
+        pass

@@ -22,6 +22,12 @@ still finds it at the master when it returns.
 
 It relies on rospy's ``RegManager`` (its ``reg_added``, ``reg_removed``, ``publisher_update``,
 ``uri`` and ``master_uri``) and on ``Registration``'s type constants, unchanged since ROS Kinetic.
+
+Stopping is the same in reverse: :func:`withdraw_all` hands the node's registrations' reverse
+(``unregisterPublisher``, ``unregisterSubscriber``, ``unregisterService``,
+``unsubscribeParam``) to a process that
+sends them in ``system.multicall`` batches (``withdraw.py``), and clears rospy's registration
+listeners, so that rospy unregisters nothing a second time as it closes its topics.
 """
 import threading
 import time
@@ -29,10 +35,12 @@ import xmlrpc.client
 
 import rospy
 from rospy.impl.registration import (RegManager, Registration, get_registration_listeners,
-                                     get_topic_manager)
+                                     get_service_manager, get_topic_manager)
+from rospy.impl.paramserver import get_param_server_cache
 from rospy.impl.statistics import SubscriberStatisticsLogger
 
 from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.ros.transport import withdraw
 
 _REGISTER = {Registration.PUB: "registerPublisher", Registration.SUB: "registerSubscriber",
              Registration.SRV: "registerService"}
@@ -74,6 +82,7 @@ class BulkRegistration:
         self._lock = threading.Condition()
         self._deferring = False        # the caller is still inside the ``with``
         self._thread = None
+        self._closed = False           # the node stops: nothing more is sent
         self._statistics_check = None  # rospy's classmethod, while replaced
         self._log = ThrottledLog()
         self.sent = 0                  # registrations the master has answered
@@ -117,6 +126,18 @@ class BulkRegistration:
                 self._lock.wait(left)
         return True
 
+    def close(self, timeout_s: float = 2.0):
+        """The node stops: drop what was not sent yet (the master never learnt of it) and wait
+        up to ``timeout_s`` for a batch on its way, so that :func:`withdraw_all` comes after
+        every registration the master got."""
+        with self._lock:
+            self._closed = True
+            self._queue.clear()
+            self._lock.notify_all()
+            thread = self._thread
+        if thread is not None and thread is not threading.current_thread():
+            thread.join(timeout_s)
+
     # --- queueing (rospy's threads, under its registration-listener lock) -----------------
     def _added(self, resolved_name, data_type_or_uri, reg_type):
         if not self._deferred(_REGISTER[reg_type], resolved_name, data_type_or_uri, reg_type):
@@ -132,6 +153,8 @@ class BulkRegistration:
         """Queue it inside the context (True); after it, wait until the queue was sent and
         leave it to rospy (False)."""
         with self._lock:
+            if self._closed:
+                return True
             if self._deferring:
                 self._queue.append((method, resolved_name, data_type_or_uri, reg_type))
                 self._ensure_thread()     # sending overlaps with creating the next topics
@@ -161,6 +184,8 @@ class BulkRegistration:
     def _run(self):
         while not rospy.is_shutdown():
             with self._lock:
+                if self._closed:
+                    break
                 if not self._queue:
                     if self._deferring:
                         self._lock.wait(_RETRY_S)
@@ -176,7 +201,7 @@ class BulkRegistration:
                 time.sleep(_RETRY_S)
         with self._lock:       # after the context nothing is queued: no registration is lost
             self._thread = None
-            if self._queue and not rospy.is_shutdown():
+            if self._queue and not rospy.is_shutdown() and not self._closed:
                 self._ensure_thread()
             elif not self._deferring:
                 self._restore()
@@ -185,13 +210,9 @@ class BulkRegistration:
         """One multicall; True once the master answered it (whatever each answer was)."""
         registrar = self._registrar
         master = self._master or xmlrpc.client.ServerProxy(registrar.master_uri)
-        calls = xmlrpc.client.MultiCall(master)
-        caller_id = rospy.get_caller_id()
-        for method, name, type_or_uri, reg_type in batch:
-            getattr(calls, method)(*_arguments(method, reg_type, caller_id, name, type_or_uri,
-                                               registrar.uri))
         try:
-            answers = list(calls())
+            answers = withdraw.multicall(master, _calls(batch, rospy.get_caller_id(),
+                                                        registrar.uri))
         except (OSError, xmlrpc.client.Error) as e:
             self._log.warn("registration", "registering %d topics with the master at %s failed "
                            "(%s); retrying", len(batch), registrar.master_uri, e)
@@ -202,3 +223,48 @@ class BulkRegistration:
             elif method == "registerSubscriber":
                 registrar.publisher_update(name, value)
         return True
+
+
+def _calls(batch, caller_id, node_uri):
+    """The master API's calls, (method, arguments), for queued (method, name, type or uri,
+    reg_type) entries."""
+    return [(method, _arguments(method, reg_type, caller_id, name, type_or_uri, node_uri))
+            for method, name, type_or_uri, reg_type in batch]
+
+
+def withdraw_all(registrar=None) -> int:
+    """Every topic, subscription and service of this node withdrawn from the master, in the
+    order they were registered (the master finds each at the front of its lists), by a
+    process of its own (``withdraw.py``: the master needs seconds for thousands, which the
+    stopping node does not wait for), and the parameters it subscribed to (rospy's own
+    cache), which rospy never unsubscribes: the master then forgets the node. rospy's
+    registration listeners are cleared, so that closing a topic afterwards calls no one.
+    Returns how many calls were handed over."""
+    registrar = registrar if registrar is not None else rospy_registrar()
+    get_registration_listeners().clear()
+    if registrar is None or not registrar.master_uri:
+        return 0
+    topics, services = get_topic_manager(), get_service_manager()
+    batch = [(_UNREGISTER[Registration.PUB], name, None, Registration.PUB)
+             for name, _type in topics.get_publications()]
+    batch += [(_UNREGISTER[Registration.SUB], name, None, Registration.SUB)
+              for name, _type in topics.get_subscriptions()]
+    batch += [(_UNREGISTER[Registration.SRV], name, uri, Registration.SRV)
+              for name, uri in services.get_services()]
+    calls = _calls(batch, rospy.get_caller_id(), registrar.uri)
+    calls += [("unsubscribeParam", (rospy.get_caller_id(), registrar.uri, key))
+              for key in _cached_params(get_param_server_cache().d)]
+    if calls:
+        withdraw.hand_off(registrar.master_uri, calls)
+    return len(calls)
+
+
+def _cached_params(tree, prefix="/"):
+    """The keys of rospy's parameter cache (``get_param_cached``: each a subscription with the
+    master, rospy's own ``/rosout_disable_topics_generation`` among them): the leaves of its
+    tree, or the key of an empty one."""
+    for key, value in (tree or {}).items():
+        if isinstance(value, dict) and value:
+            yield from _cached_params(value, f"{prefix}{key}/")
+        else:
+            yield prefix + key

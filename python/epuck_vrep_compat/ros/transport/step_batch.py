@@ -35,6 +35,7 @@ accepts at the process's limit). rospy closes a dropped connection from its own 
 through the connection's ``close``: that first takes the connection out of the writer, waiting
 for a flush under way, so the writer never writes on a descriptor the system may have reused.
 A connection rospy forgets otherwise is taken out within ``_SCAN_PERIOD_S`` of wall time.
+Latched topics that change now and then go through it too (``latched.py``).
 """
 import io
 import struct
@@ -44,10 +45,12 @@ import warnings
 import rospy
 
 from epuck_vrep_compat._core import BatchWriter
+from epuck_vrep_compat.ros.transport.latched import LatchedTopics
 
 _FRAME = struct.Struct("<I")
 _WARN_PERIOD_S = 10.0     # wall seconds between warnings about one stuck subscriber
 _SCAN_PERIOD_S = 0.5      # wall seconds between looks for connections rospy dropped
+_DRAIN_POLL_S = 0.005     # wall seconds between offers of the backlogs when the node stops
 
 
 def synchronous_publisher(topic, msg_class, **kwargs):
@@ -91,8 +94,7 @@ class StepBatch:
         (the simulator node); otherwise :meth:`flush` sends before it returns."""
         self.max_delay_s = max_delay_s
         self._background = background
-        self.max_backlog_bytes = max_backlog_bytes
-        self.max_backlog_batches = max_backlog_batches
+        self.max_backlog_bytes, self.max_backlog_batches = max_backlog_bytes, max_backlog_batches
         self._pending = {}            # publisher impl -> list of framed messages
         self._writer = BatchWriter(max_backlog_bytes, max_backlog_batches)
         self._ids = {}                # connection -> (writer id, publisher impl)
@@ -100,6 +102,7 @@ class StepBatch:
         self._dropped = {}            # subscriber -> batches dropped for it so far
         self._lagging = {}            # subscriber -> its topics with drops since its warning
         self._warned = {}             # subscriber -> wall time of its last warning
+        self._latched = LatchedTopics()
         self._last_flush = self._last_scan = time.monotonic()
 
     @staticmethod
@@ -123,6 +126,19 @@ class StepBatch:
             self._pending[impl] = [frame]
         else:
             chunks.append(frame)
+
+    def latched_publisher(self, topic, msg_class):
+        """A latched topic whose messages go through :meth:`add_latched`: a new subscriber
+        gets the last one at the next flush (``latched.py``)."""
+        return self._latched.publisher(topic, msg_class, synchronous_publisher)
+
+    def add_latched(self, pub, msg):
+        """Queue a message of a :meth:`latched_publisher`'s topic and keep it for the topic's
+        later subscribers."""
+        data = wire_bytes(msg)
+        frame = _FRAME.pack(len(data)) + data
+        self._latched.keep(pub.impl, frame)
+        self.add_frame(pub, frame)
 
     def add_slices(self, data: bytes, slices):
         """Queue slices of one packed buffer, each for one connection: rows (writer id, begin,
@@ -152,6 +168,7 @@ class StepBatch:
         pending, self._pending = self._pending, {}
         now = self._last_flush = time.monotonic()
         writer = self._writer
+        self._queue_latched()                       # before anything newer on those topics
         for impl, chunks in pending.items():
             if impl.closed:
                 continue
@@ -160,6 +177,7 @@ class StepBatch:
                 entry = self._entry(impl, connection)
                 if entry is not None:
                     writer.queue(entry[0], data)
+        self._latched.sent()
         if now - self._last_scan >= _SCAN_PERIOD_S:
             self._last_scan = now
             self._forget_gone()
@@ -170,11 +188,30 @@ class StepBatch:
         else:
             self._apply(writer.flush())
 
+    def _queue_latched(self):
+        """A joined latched topic's last frame for each connection new to the writer."""
+        for impl, frame in self._latched.joined():
+            for connection in impl.connections:
+                if connection not in self._ids:
+                    entry = self._open(impl, connection)
+                    if entry is not None:
+                        self._writer.queue(entry[0], frame)
+
     def settle(self):
         """Wait until the writer's thread has sent every flush requested so far (and count
         what it sent)."""
         self._apply(self._writer.take_reports(True))
         self._count_sent(wait=True)
+
+    def drain(self, timeout_s: float):
+        """The node stops: send what is queued, then offer lagging subscribers their backlogs
+        for up to ``timeout_s`` of wall time, so that a recorder gets the last steps."""
+        self.flush()
+        self.settle()
+        deadline = time.monotonic() + timeout_s
+        while self._writer.backlog_bytes and time.monotonic() < deadline:
+            time.sleep(_DRAIN_POLL_S)
+            self._apply(self._writer.flush())    # the writer's thread is idle after settle()
 
     def _count_sent(self, wait: bool):
         """Add what the writer sent since the last count to each connection's ``stat_bytes``
@@ -236,6 +273,7 @@ class StepBatch:
         for connection, (_id, impl) in list(self._ids.items()):
             if impl.closed or connection.done or connection not in impl.connections:
                 self._forget(connection)
+        self._latched.forget_closed()
 
     def _warn_dropped(self, connection, impl, dropped):
         """One warning per subscriber every ``_WARN_PERIOD_S`` at most, naming its topics
