@@ -47,6 +47,7 @@ class SimParams:
     noise: NoiseSettings = field(default_factory=NoiseSettings)
     noise_source: str = "real_robot"      # the preset, and the noise file over it if any
     extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
+    test_fault_hook: bool = False       # tests only: faults on command (sim/fault_hook.py)
 
     def summary(self) -> str:
         return (f"world={self.world} n={self.n} robots={','.join(self.robot_names[:4])}"
@@ -102,6 +103,7 @@ def read_params(default_world: str) -> SimParams:
                               lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
     p.noise, p.noise_source = _read_noise(p.robot_names)
     p.extras = read_extras_settings(profile)
+    p.test_fault_hook = _get("test_fault_hook", False, bool)
     return p
 
 

@@ -68,7 +68,8 @@ class SimulatorNode:
         names = params.robot_names
         config = SimulationConfig(names, params.step_s, params.seed, params.noise,
                                   params.cmd_timeout_s, params.camera, profile.robot_name,
-                                  params.extras if profile.extras else None, profile.extras)
+                                  params.extras if profile.extras else None, profile.extras,
+                                  fault_hook=params.test_fault_hook)
         try:
             self.sim = build_simulation(scene, config)
         except SceneError as e:
@@ -101,8 +102,13 @@ class SimulatorNode:
             except ValueError as e:
                 raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
         self.descriptions = DescriptionFace(profile, self.sim)
-        self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
-                                  self.cameras, self.leds, self.descriptions) if f is not None]
+        faults = None
+        if self.sim.fault_hook is not None:      # tests only; first, so the others follow it
+            from epuck_vrep_compat.ros.node.fault_face import FaultFace
+            faults = FaultFace(self.sim.fault_hook)
+        self.faces = [f for f in (faults, self.tf, self.epucks, self.extras, self.cell,
+                                  self.vrep, self.cameras, self.leds, self.descriptions)
+                      if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service(PAUSE_SERVICE, Empty, self._on_pause)
         rospy.Service(UNPAUSE_SERVICE, Empty, self._on_unpause)
@@ -175,26 +181,39 @@ class SimulatorNode:
         """One step and its messages; False when the step failed (see :meth:`_step_failed`)."""
         try:
             self.sim.step()
-        except Exception:  # noqa: BLE001 - the simulation must outlive it, and says so
-            self._step_failed(traceback.format_exc())
+        except Exception as e:  # noqa: BLE001 - the simulation must outlive it, and says so
+            self._step_failed(e)
             return False
         step = self._step_info()
         if self._batch.wanted(self._clock):
             self._batch.add(self._clock, Clock(clock=step.stamp))
-        for face in self.faces:
-            face.publish(step)
+        self._publish_faces(step, idle=False)
         step.send_tf()
         return True
 
-    def _step_failed(self, trace: str):
+    def _publish_faces(self, step: Step, idle: bool):
+        """Every face's messages of a step (or idle pass); a face that raises loses only its own
+        messages of this pass, with an ERROR line (one per face and 5 s), and the others publish
+        on."""
+        for face in self.faces:
+            try:
+                face.publish_idle(step) if idle else face.publish(step)
+            except Exception as e:  # noqa: BLE001 - one face's bug must not silence the others
+                name = type(face).__name__
+                self._errors.error(f"publish {name}", "%s failed to publish at t=%.3f s (%s: %s);"
+                                   " the other faces publish on:\n%s", name, self.sim.time_s,
+                                   type(e).__name__, e, traceback.format_exc())
+
+    def _step_failed(self, error: Exception):
         """Physics refused to step (every request is checked before it reaches the scene, so
         this is a bug): the simulation pauses, so that /vrep/info says "paused" rather than
-        "running" while time stands still, and the error is logged with its cause. Stop, start
-        and reset still work; starting again retries the step."""
+        "running" while time stands still, and the error is logged with its cause, every time
+        (each one pauses, so they cannot flood). Stop, start and reset still work; starting
+        again retries the step."""
         self.control.pause()
-        self._errors.error("step", "simulation step failed at t=%.3f s; the simulation is "
-                           "paused (start, stop or reset it through /vrep):\n%s",
-                           self.sim.time_s, trace)
+        rospy.logerr("simulation step failed at t=%.3f s (%s: %s); the simulation is paused "
+                     "(start, stop or reset it through /vrep):\n%s", self.sim.time_s,
+                     type(error).__name__, error, traceback.format_exc())
 
     def _guarded(self, work):
         """A bug in one face must not stop the simulation: log it loudly and go on."""
@@ -209,6 +228,8 @@ class SimulatorNode:
 
         Messages are flushed before every sleep, so a simulation that keeps its schedule
         delivers every step at once; one that runs flat out flushes every ``max_delay_s``.
+        A step late by up to ``_LAG_RESET_S`` is caught up (the next steps do not sleep); one
+        later than that restarts the schedule: the time is dropped, with a warning.
         """
         period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
         deadline = time.monotonic()
@@ -217,8 +238,7 @@ class SimulatorNode:
             if not self.control.may_step():
                 with self._lock:
                     step = self._step_info()
-                    for face in self.faces:
-                        face.publish_idle(step)
+                    self._publish_faces(step, idle=True)
                     step.send_tf()
                     batch.flush()
                 time.sleep(_IDLE_SLEEP_S)
@@ -235,6 +255,9 @@ class SimulatorNode:
             if delay > 0.0:
                 time.sleep(max(0.0, deadline - time.monotonic()))
             elif delay < -_LAG_RESET_S:
+                self._errors.warn("late", "the simulation fell %.2f s behind real time at "
+                                  "t=%.3f s (a step took too long); that time is dropped, not "
+                                  "caught up", -delay, self.sim.time_s)
                 deadline = time.monotonic()
 
 
