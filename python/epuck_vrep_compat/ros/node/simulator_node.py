@@ -36,6 +36,7 @@ from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
+from epuck_vrep_compat.ros.node.malloc_arenas import limit_malloc_arenas
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
 from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
@@ -262,6 +263,7 @@ class SimulatorNode:
 
 
 def main():
+    limit_malloc_arenas()        # first: before any thread of rospy's takes an arena
     if not rosgraph.is_master_online():
         sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
                          "roscore, or start the simulator with roslaunch\n")
