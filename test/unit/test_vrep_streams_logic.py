@@ -430,3 +430,31 @@ def test_subscribers(vrep):
 def test_raw_string_keeps_bytes():
     data = struct.pack("<I", 3) + b"\x00\xfe\x01"
     assert RawString().deserialize(data).data == b"\x00\xfe\x01"
+
+
+def test_stream_tables_are_bounded(vrep, monkeypatch):
+    """Issue 27: at most MAX_STREAMS publisher and subscriber streams at once; one more is
+    refused with V-REP's failure value and the reason in the error log, and disabling one makes
+    room again."""
+    import epuck_vrep_compat.ros.vrep_plugin.streams as streams_module
+    backend, streams, wiring = vrep
+    monkeypatch.setattr(streams_module, "MAX_STREAMS", 3)
+    names = [streams.enable_publisher(pub_req(f"s{k}", vc.STRMCMD_GET_FLOAT_SIGNAL, s=f"s{k}"))
+             .effectiveTopicName for k in range(4)]
+    assert names == ["s0", "s1", "s2", ""]
+    assert backend.errors.take()[-1] == ("simRosEnablePublisher: Topic could not be published. "
+                                         "(the stream table is full: 3 publisher streams are "
+                                         "enabled; disable one first)")
+    # another reference to a stream there is no new stream
+    assert streams.enable_publisher(pub_req("x", vc.STRMCMD_GET_FLOAT_SIGNAL, s="s1")) \
+        .effectiveTopicName == "s1"
+    assert streams.disable_publisher(simRosDisablePublisherRequest("s0")).referenceCounter == 0
+    assert streams.enable_publisher(pub_req("s3", vc.STRMCMD_GET_FLOAT_SIGNAL, s="s3")) \
+        .effectiveTopicName == "s3"
+    ids = [streams.enable_subscriber(sub_req(f"i{k}", vc.STRMCMD_SET_INTEGER_SIGNAL, s=f"i{k}"))
+           .subscriberID for k in range(4)]
+    assert ids == [0, 1, 2, -1]
+    assert "3 subscriber streams are enabled" in backend.errors.take()[-1]
+    assert streams.disable_subscriber(simRosDisableSubscriberRequest(1)).result == 1
+    assert streams.enable_subscriber(sub_req("i4", vc.STRMCMD_SET_INTEGER_SIGNAL, s="i4")) \
+        .subscriberID == 3

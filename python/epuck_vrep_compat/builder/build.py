@@ -5,7 +5,8 @@ The simulator node, the tests and the benchmarks build every simulation here. In
 they step: the e-pucks (always; none when the config names no robot), the scene's industrial
 cell (when it has a ``cell:`` section; pybullet is loaded only then), then the e-puck2's extra
 sensors (when the config has their settings: a profile with extra topics), which thus see the
-e-pucks and the cell's links where they are.
+e-pucks and the cell's links where they are; last, only when the config asks (tests), the fault
+hook (:mod:`epuck_vrep_compat.sim.fault_hook`).
 """
 from dataclasses import dataclass
 from typing import Callable, FrozenSet, Optional, Sequence
@@ -35,14 +36,16 @@ class SimulationConfig:
     robot_namer: Optional[Callable[[int], str]] = None   # None: V-REP's ePuck<k>
     epuck2: Optional[Epuck2Settings] = None         # the e-puck2's extra sensors; None: none
     epuck2_readings: FrozenSet[str] = READINGS      # which of them (a profile's extras)
+    fault_hook: bool = False                        # tests only: faults on command
 
 
 def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulation:
     """The simulation of ``scene``. Its ``epucks`` attribute is the
     :class:`~epuck_vrep_compat.epuck.swarm.EpuckRobots`, its ``cell`` attribute the scene's
     :class:`~epuck_vrep_compat.cell.cell.Cell` (or None), its ``epuck2`` attribute the
-    :class:`~epuck_vrep_compat.epuck.epuck2_sensors.Epuck2Sensors` (or None), each added to the
-    simulation's extensions. SceneError when the scene's robots find no place."""
+    :class:`~epuck_vrep_compat.epuck.epuck2_sensors.Epuck2Sensors` (or None), its ``fault_hook``
+    attribute the :class:`~epuck_vrep_compat.sim.fault_hook.FaultHook` (or None), each added to
+    the simulation's extensions. SceneError when the scene's robots find no place."""
     c = config if config is not None else SimulationConfig()
     sim = Simulation(scene, c.step_s, c.seed, extended_sections=("robots", "cell"))
     sim.epucks = EpuckRobots(sim, c.seed, c.robot_names, c.noise, c.cmd_timeout_s, c.camera,
@@ -60,4 +63,9 @@ def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulatio
                                    stream_seed(c.seed, EPUCK2_MAGNETOMETER), scene.floor_regions,
                                    scene.arena.floor_color, readings=c.epuck2_readings)
         sim.add_extension(sim.epuck2)
+    sim.fault_hook = None
+    if c.fault_hook:
+        from epuck_vrep_compat.sim.fault_hook import FaultHook
+        sim.fault_hook = FaultHook()
+        sim.add_extension(sim.fault_hook)
     return sim

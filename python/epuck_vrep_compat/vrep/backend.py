@@ -19,15 +19,19 @@ from epuck_vrep_compat.vrep.objects import VrepObjects
 from epuck_vrep_compat.vrep.parameters import VrepParameters
 
 MAX_ERRORS = 50            # the plugin keeps the last 50
+MAX_ERROR_CHARS = 16384    # of one entry (a 10 kB name fits; a 1 MB string is cut)
 
 
 class ErrorLog:
-    """The reasons of the last failed calls, for simRosGetLastErrors."""
+    """The reasons of the last failed calls, for simRosGetLastErrors: the last
+    :data:`MAX_ERRORS`, each cut at :data:`MAX_ERROR_CHARS` characters."""
 
     def __init__(self):
         self._errors = collections.deque(maxlen=MAX_ERRORS)
 
     def add(self, message: str):
+        if len(message) > MAX_ERROR_CHARS:
+            message = message[:MAX_ERROR_CHARS - 3] + "..."
         self._errors.append(message)
 
     def take(self):

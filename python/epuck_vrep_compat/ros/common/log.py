@@ -4,7 +4,9 @@ rospy's ``logwarn_throttle`` keys on the call site and counts ROS time: one robo
 hides every other robot's (and every other kind of fault from the same line) for the period,
 and a simulation running 10x real time repeats the line ten times as often. :class:`ThrottledLog`
 keys on a caller-given key (robot, topic, kind of fault) and counts wall time, so a paused
-simulation does not silence it either.
+simulation does not silence it either. Keys may come from clients (a topic or joint name a request
+named), so it remembers at most :data:`MAX_KEYS` of them: a key whose period has passed throttles
+nothing and is forgotten first, and beyond that the oldest go (at worst one line more).
 """
 import logging
 import threading
@@ -14,14 +16,16 @@ from typing import Dict
 import rospy
 
 WARN_PERIOD_S = 5.0
+MAX_KEYS = 1000         # keys remembered; more distinct keys within one period: the oldest go
 
 
 class ThrottledLog:
     """At most one line per key and period (wall time)."""
 
-    def __init__(self, period_s: float = WARN_PERIOD_S):
+    def __init__(self, period_s: float = WARN_PERIOD_S, max_keys: int = MAX_KEYS):
         self._period_s = period_s
-        self._last: Dict[str, float] = {}
+        self._max_keys = max_keys
+        self._last: Dict[str, float] = {}       # key -> when it last logged, oldest first
         self._lock = threading.Lock()
 
     def warn(self, key: str, fmt: str, *args):
@@ -38,8 +42,24 @@ class ThrottledLog:
             last = self._last.get(key)
             if last is not None and now - last < self._period_s:
                 return False
+            self._last.pop(key, None)
             self._last[key] = now
+            if len(self._last) > self._max_keys:
+                self._forget(now)
         return True
+
+    def _forget(self, now: float):
+        """Keys whose period has passed, then (a flood of distinct keys) the oldest, down to
+        ``max_keys``."""
+        expired = [k for k, t in self._last.items() if now - t >= self._period_s]
+        for k in expired:
+            del self._last[k]
+        while len(self._last) > self._max_keys:
+            del self._last[next(iter(self._last))]
+
+    def __len__(self) -> int:
+        """The keys remembered."""
+        return len(self._last)
 
 
 def serve_get_loggers_safely():

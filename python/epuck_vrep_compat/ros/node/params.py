@@ -53,6 +53,7 @@ class SimParams:
     noise: NoiseSettings = field(default_factory=NoiseSettings)
     noise_source: str = "real_robot"      # the preset, and the noise file over it if any
     extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
+    test_fault_hook: bool = False       # tests only: faults on command (sim/fault_hook.py)
 
     def _operator(self) -> str:
         if self.operator_walk_seed is not None:
@@ -118,6 +119,7 @@ def read_params(default_world: str) -> SimParams:
                               lambda v: 0.0 < v < math.pi, "must be in (0, pi)")
     p.noise, p.noise_source = _read_noise(p.robot_names)
     p.extras = read_extras_settings(profile)
+    p.test_fault_hook = _get("test_fault_hook", False, bool)
     return p
 
 

@@ -13,11 +13,9 @@ simulation under its lock (``sim.lock``, which every step holds), between steps;
 :meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
 step.
 """
-import sys
 import time
 import traceback
 
-import rosgraph
 import rospy
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty, EmptyResponse
@@ -25,9 +23,8 @@ from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat.topics import (
-    CLOCK_TOPIC, NODE, NODE_NAME, PAUSE_SERVICE, RESET_SERVICE, TF_TOPIC, UNPAUSE_SERVICE)
-from epuck_vrep_compat.paths import PackageNotFound, data_path
-from epuck_vrep_compat.ros.common.log import ThrottledLog, serve_get_loggers_safely
+    CLOCK_TOPIC, PAUSE_SERVICE, RESET_SERVICE, TF_TOPIC, UNPAUSE_SERVICE)
+from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.description import DescriptionFace
 from epuck_vrep_compat.ros.epuck.drivers.extras import ExtrasFace
@@ -37,13 +34,7 @@ from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.messages import time_stamp
-from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
-from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params, with_operator
-from epuck_vrep_compat.ros.node.stop import StopRequest, stop_node
-from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
-                                                          share_connection_poller,
-                                                          widen_accept_queue)
-from epuck_vrep_compat.ros.transport.registration import BulkRegistration
+from epuck_vrep_compat.ros.node.params import ParamError, SimParams, with_operator
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
@@ -70,7 +61,8 @@ class SimulatorNode:
         names = params.robot_names
         config = SimulationConfig(names, params.step_s, params.seed, params.noise,
                                   params.cmd_timeout_s, params.camera, profile.robot_name,
-                                  params.extras if profile.extras else None, profile.extras)
+                                  params.extras if profile.extras else None, profile.extras,
+                                  fault_hook=params.test_fault_hook)
         try:
             self.sim = build_simulation(scene, config)
         except SceneError as e:
@@ -107,8 +99,13 @@ class SimulatorNode:
                 rospy.loginfo("operator: %s", self.sim.cell.operator.describe())
         self._lockstep = self.cell.lockstep if self.cell is not None else None
         self.descriptions = DescriptionFace(profile, self.sim)
-        self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
-                                  self.cameras, self.leds, self.descriptions) if f is not None]
+        faults = None
+        if self.sim.fault_hook is not None:      # tests only; first, so the others follow it
+            from epuck_vrep_compat.ros.node.fault_face import FaultFace
+            faults = FaultFace(self.sim.fault_hook)
+        self.faces = [f for f in (faults, self.tf, self.epucks, self.extras, self.cell,
+                                  self.vrep, self.cameras, self.leds, self.descriptions)
+                      if f is not None]
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service(PAUSE_SERVICE, Empty, self._on_pause)
         rospy.Service(UNPAUSE_SERVICE, Empty, self._on_unpause)
@@ -181,26 +178,39 @@ class SimulatorNode:
         """One step and its messages; False when the step failed (see :meth:`_step_failed`)."""
         try:
             self.sim.step()
-        except Exception:  # noqa: BLE001 - the simulation must outlive it, and says so
-            self._step_failed(traceback.format_exc())
+        except Exception as e:  # noqa: BLE001 - the simulation must outlive it, and says so
+            self._step_failed(e)
             return False
         step = self._step_info()
         if self._batch.wanted(self._clock):
             self._batch.add(self._clock, Clock(clock=step.stamp))
-        for face in self.faces:
-            face.publish(step)
+        self._publish_faces(step, idle=False)
         step.send_tf()
         return True
 
-    def _step_failed(self, trace: str):
+    def _publish_faces(self, step: Step, idle: bool):
+        """Every face's messages of a step (or idle pass); a face that raises loses only its own
+        messages of this pass, with an ERROR line (one per face and 5 s), and the others publish
+        on."""
+        for face in self.faces:
+            try:
+                face.publish_idle(step) if idle else face.publish(step)
+            except Exception as e:  # noqa: BLE001 - one face's bug must not silence the others
+                name = type(face).__name__
+                self._errors.error(f"publish {name}", "%s failed to publish at t=%.3f s (%s: %s);"
+                                   " the other faces publish on:\n%s", name, self.sim.time_s,
+                                   type(e).__name__, e, traceback.format_exc())
+
+    def _step_failed(self, error: Exception):
         """Physics refused to step (every request is checked before it reaches the scene, so
         this is a bug): the simulation pauses, so that /vrep/info says "paused" rather than
-        "running" while time stands still, and the error is logged with its cause. Stop, start
-        and reset still work; starting again retries the step."""
+        "running" while time stands still, and the error is logged with its cause, every time
+        (each one pauses, so they cannot flood). Stop, start and reset still work; starting
+        again retries the step."""
         self.control.pause()
-        self._errors.error("step", "simulation step failed at t=%.3f s; the simulation is "
-                           "paused (start, stop or reset it through /vrep):\n%s",
-                           self.sim.time_s, trace)
+        rospy.logerr("simulation step failed at t=%.3f s (%s: %s); the simulation is paused "
+                     "(start, stop or reset it through /vrep):\n%s", self.sim.time_s,
+                     type(error).__name__, error, traceback.format_exc())
 
     def _guarded(self, work):
         """A bug in one face must not stop the simulation: log it loudly and go on."""
@@ -216,6 +226,8 @@ class SimulatorNode:
 
         Messages are flushed before every sleep, so a simulation that keeps its schedule
         delivers every step at once; one that runs flat out flushes every ``max_delay_s``.
+        A step late by up to ``_LAG_RESET_S`` is caught up (the next steps do not sleep); one
+        later than that restarts the schedule: the time is dropped, with a warning.
         """
         period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
         deadline = time.monotonic()
@@ -224,8 +236,7 @@ class SimulatorNode:
             if not self.control.may_step():
                 with self._lock:
                     step = self._step_info()
-                    for face in self.faces:
-                        face.publish_idle(step)
+                    self._publish_faces(step, idle=True)
                     step.send_tf()
                     batch.flush()
                 time.sleep(_IDLE_SLEEP_S)
@@ -247,38 +258,8 @@ class SimulatorNode:
             if delay > 0.0:
                 time.sleep(max(0.0, deadline - time.monotonic()))
             elif delay < -_LAG_RESET_S:
+                self._errors.warn("late", "the simulation fell %.2f s behind real time at "
+                                  "t=%.3f s (a step took too long); that time is dropped, not "
+                                  "caught up", -delay, self.sim.time_s)
                 deadline = time.monotonic()
 
-
-def main():
-    if not rosgraph.is_master_online():
-        sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
-                         "roscore, or start the simulator with roslaunch\n")
-        return 1
-    first_master_pid = master_pid(NODE)
-    raise_descriptor_limit()     # one per connection: 14 001 for 1000 robots, all subscribed
-    share_connection_poller()    # not one more per topic
-    rospy.init_node(NODE_NAME, disable_signals=True)
-    stop = StopRequest()         # SIGINT and SIGTERM end the loop, then stop_node
-    widen_accept_queue()         # a subscriber to every topic at once loses none
-    serve_get_loggers_safely()
-    # watching from the start: rospy retries a vanished master forever while registering
-    MasterWatch(first_master_pid)
-    registration = BulkRegistration()
-    try:
-        params = read_params(data_path("worlds", "arena.yaml"))
-        # the master learns of the topics from a background thread while the node steps
-        with registration:
-            node = SimulatorNode(params, data_path("models"))
-    except (ParamError, SceneError, PackageNotFound) as e:
-        rospy.logfatal("epuck_sim cannot start: %s", e)
-        time.sleep(0.5)          # let the log line reach /rosout
-        return 2
-    except OSError as e:         # the master stopped answering while we read parameters
-        rospy.logfatal("epuck_sim cannot start: the ROS master at %s stopped answering (%s)",
-                       rosgraph.get_master_uri(), e)
-        return EXIT_MASTER_LOST
-    rospy.loginfo("epuck_sim: %s", params.summary())
-    node.spin(stop.requested)
-    reason = f"{stop.signal_name or 'shutdown'} at t={node.sim.time_s:.3f} s"
-    stop_node(node._batch, node.sim.lock, registration, reason)     # ends the process

@@ -9,6 +9,8 @@
   ends. get_transform streams have no topic: their transforms go out together on ``/tf``.
 * Subscriber streams get IDs counting up from 0 (the plugin's ``lastSubscriberID``, never reset)
   and act on the simulation from rospy's threads, under the simulation lock.
+* Each table holds at most :data:`MAX_STREAMS` streams (V-REP had no bound); enabling one more
+  fails as any refused enable does, with the reason in the error log.
 Callers of the enable/disable methods and of :meth:`VrepStreams.publish` hold the lock. No
 method raises: failures return V-REP's failure value and are recorded for simRosGetLastErrors.
 What each command does is in :mod:`stream_publishers`, :mod:`stream_sensors` and
@@ -36,6 +38,8 @@ from epuck_vrep_compat.vrep.backend import VrepError
 
 PUBLISHER_KINDS = {**GENERAL_PUBLISHERS, **SENSOR_PUBLISHERS}
 ENABLE_PUBLISHER, ENABLE_SUBSCRIBER = "simRosEnablePublisher", "simRosEnableSubscriber"
+MAX_STREAMS = 1000          # publisher streams, and subscriber streams, enabled at once
+FULL = "the stream table is full: {} {} streams are enabled; disable one first"
 
 
 @dataclass
@@ -93,6 +97,9 @@ class VrepStreams:
             if stream.identity == identity:
                 stream.references += 1
                 return stream.name
+        if len(self._publishers) >= MAX_STREAMS:
+            return self._fail("", ENABLE_PUBLISHER, "Topic could not be published. (" +
+                              FULL.format(MAX_STREAMS, "publisher") + ")")
         try:
             if kind.check is not None:
                 kind.check(self.backend, aux)
@@ -187,6 +194,9 @@ class VrepStreams:
         if kind is None:
             return self._fail(-1, ENABLE_SUBSCRIBER, f"Topic could not be subscribed. (stream "
                                   f"command {req.streamCmd} is not a supported subscriber command)")
+        if len(self._subscribers) >= MAX_STREAMS:
+            return self._fail(-1, ENABLE_SUBSCRIBER, "Topic could not be subscribed. (" +
+                              FULL.format(MAX_STREAMS, "subscriber") + ")")
         try:
             if kind.check is not None:
                 kind.check(self.backend, aux)

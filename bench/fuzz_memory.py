@@ -1,0 +1,221 @@
+#!/usr/bin/python3
+"""Where the simulator's memory settles under a long ``/vrep`` fuzz (issue 27).
+
+Runs the suite's ``/vrep`` fuzz tests (``test/rostest/test_vrep_fuzz.py``: the very requests,
+modes and checks of ``vrep_fuzz.test`` and ``vrep_fuzz_cell.test``, imported, not copied)
+``--rounds`` times in a row (10 by default: ten times what the suite sends) against the scene
+of each of those launch files, each started by ``roslaunch`` on a master of its own. Every
+``--every`` calls it samples the simulator's resident memory (``VmRSS``), threads and
+descriptors; it writes ``fuzz_memory.csv`` and ``fuzz_memory.png`` into ``--out`` and prints,
+per scene, the memory at the end of each round and the growth over the last half of the rounds
+(memory that settles grows by next to nothing there). Wall times are rough on a shared machine;
+the memory figures are what counts. Needs a built workspace, sourced.
+
+    bench/fuzz_memory.py --rounds 10 --out results/fuzz_memory
+    bench/fuzz_memory.py --scenes cell --rounds 2 --tests test_01 test_13
+"""
+import argparse
+import csv
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROSTEST_DIR = os.path.join(HERE, "..", "test", "rostest")
+SCENES = {"epucks": "vrep_fuzz.test", "cell": "vrep_fuzz_cell.test"}
+SETTLE_S = 3.0      # after a round, before its last sample: closed connections' threads end
+FIELDS = ("scene", "round", "test", "calls", "wall_s", "rss_mb", "threads", "fds")
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def process_figures(pid):
+    """(RSS in MB, threads, open descriptors) of a process."""
+    rss_mb, threads = 0.0, 0
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                rss_mb = int(line.split()[1]) / 1024.0
+            elif line.startswith("Threads:"):
+                threads = int(line.split()[1])
+    return rss_mb, threads, len(os.listdir(f"/proc/{pid}/fd"))
+
+
+# --- the driver: a process of its own per scene (rospy talks to one master per process) -------
+def drive(args):
+    """Runs the fuzz suite ``args.rounds`` times, sampling the simulator every ``args.every``
+    calls into ``args.csv``."""
+    import rosgraph
+    import xmlrpc.client
+    sys.path.insert(0, ROSTEST_DIR)
+    import test_vrep_fuzz as fuzz
+
+    master = rosgraph.Master("/fuzz_memory")
+    deadline = time.monotonic() + 120
+    while True:
+        try:
+            pid = xmlrpc.client.ServerProxy(master.lookupNode("/vrep")).getPid("/fuzz_memory")[2]
+            break
+        except Exception:  # noqa: BLE001 - not up yet
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.5)
+    t0, state = time.monotonic(), {"calls": 0, "round": 0, "test": ""}
+    out = open(args.csv, "a", newline="")
+    writer = csv.writer(out)
+
+    def sample():
+        writer.writerow([args.scene, state["round"], state["test"], state["calls"],
+                         f"{time.monotonic() - t0:.1f}",
+                         *(f"{v:.1f}" if isinstance(v, float) else v
+                           for v in process_figures(pid))])
+        out.flush()
+
+    class CountingCaller(fuzz.Caller):
+        def __call__(self, *a, **kw):
+            state["calls"] += 1
+            if state["calls"] % args.every == 0:
+                sample()
+            return super().__call__(*a, **kw)
+    fuzz.Caller = CountingCaller
+
+    class NamingResult(unittest.TextTestResult):
+        def startTest(self, test):
+            state["test"] = test.id().split(".")[-1]
+            super().startTest(test)
+    sample()
+    failed = 0
+    for k in range(args.rounds):
+        state["round"] = k + 1
+        suite = unittest.TestLoader().loadTestsFromTestCase(fuzz.VrepFuzz)
+        if args.tests:
+            suite = unittest.TestSuite(t for t in suite if any(
+                t.id().split(".")[-1].startswith(p) for p in args.tests))
+        result = unittest.TextTestRunner(stream=open(os.devnull, "w"), verbosity=0,
+                                         resultclass=NamingResult).run(suite)
+        failed += len(result.failures) + len(result.errors)
+        for test, trace in result.failures + result.errors:
+            print(f"{args.scene} round {k + 1}: {test.id().split('.')[-1]} failed: "
+                  f"{trace.strip().splitlines()[-1][:300]}", flush=True)
+        time.sleep(SETTLE_S)
+        sample()
+        print(f"{args.scene} round {k + 1}: {state['calls']} calls, "
+              f"{process_figures(pid)[0]:.1f} MB, {len(result.failures) + len(result.errors)} "
+              f"failed tests", flush=True)
+    out.close()
+    return 1 if failed else 0
+
+
+# --- the parent: a simulator per scene, the driver against it, the figures ---------------------
+def run_scene(scene, args, csv_path):
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}",
+               ROS_LOG_DIR=os.path.join(args.out, "logs", scene))
+    launch = os.path.join(ROSTEST_DIR, SCENES[scene])
+    # roslaunch starts the master of the port, in its own process group with the simulator
+    sim = subprocess.Popen(["roslaunch", "-p", str(port), launch], env=env,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
+                           start_new_session=True)
+    try:
+        command = [sys.executable, os.path.abspath(__file__), "--drive", "--scene", scene,
+                   "--rounds", str(args.rounds), "--every", str(args.every), "--csv", csv_path]
+        if args.tests:
+            command += ["--tests", *args.tests]
+        return subprocess.call(command, env=env)
+    finally:
+        try:                                 # our own process group only
+            os.killpg(sim.pid, signal.SIGINT)
+            sim.wait(30)
+        except subprocess.TimeoutExpired:
+            os.killpg(sim.pid, signal.SIGKILL)
+            sim.wait()
+
+
+def read_rows(csv_path):
+    with open(csv_path) as f:
+        return [r for r in csv.DictReader(f)]
+
+
+def settling(rows):
+    """Per scene: each round's highest RSS and its RSS at the end, and the growth of the
+    highest over the last half of the rounds."""
+    lines = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        mine = [r for r in rows if r["scene"] == scene]
+        ends, peaks = {}, {}
+        for r in mine:
+            k, rss = int(r["round"]), float(r["rss_mb"])
+            ends[k] = rss                                  # the last sample of each round
+            peaks[k] = max(peaks.get(k, 0.0), rss)
+        rounds = sorted(k for k in ends if k > 0) or [0]
+        half = rounds[(len(rounds) - 1) // 2]
+        lines.append(f"{scene}: start {float(mine[0]['rss_mb']):.1f} MB; per round highest "
+                     + ", ".join(f"{peaks[k]:.1f}" for k in rounds) + " MB, at its end "
+                     + ", ".join(f"{ends[k]:.1f}" for k in rounds) + " MB; highest "
+                     f"{peaks[rounds[-1]] - peaks[half]:+.1f} MB from round {half} to "
+                     f"{rounds[-1]} ({mine[-1]['calls']} calls, threads {mine[0]['threads']} -> "
+                     f"{mine[-1]['threads']}, descriptors {mine[0]['fds']} -> {mine[-1]['fds']})")
+    return lines
+
+
+def plot(rows, png_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        mine = [r for r in rows if r["scene"] == scene]
+        ax.plot([int(r["calls"]) for r in mine], [float(r["rss_mb"]) for r in mine],
+                label=f"{scene} ({SCENES[scene]})")
+    ax.set_xlabel("/vrep calls")
+    ax.set_ylabel("simulator RSS [MB]")
+    ax.set_title("The /vrep fuzz suite in a loop: the simulator's memory")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=100)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenes", nargs="+", choices=sorted(SCENES), default=list(SCENES))
+    parser.add_argument("--rounds", type=int, default=10, help="runs of the fuzz suite")
+    parser.add_argument("--every", type=int, default=100, help="calls between samples")
+    parser.add_argument("--tests", nargs="*", default=[],
+                        help="only the fuzz tests whose names start so (default: all)")
+    parser.add_argument("--out", default="results/fuzz_memory")
+    parser.add_argument("--replot", action="store_true",
+                        help="only plot and summarise the CSV already in --out")
+    parser.add_argument("--drive", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--scene", help=argparse.SUPPRESS)
+    parser.add_argument("--csv", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.drive:
+        return drive(args)
+    os.makedirs(args.out, exist_ok=True)
+    csv_path = os.path.join(args.out, "fuzz_memory.csv")
+    status = 0
+    if not args.replot:
+        with open(csv_path, "w", newline="") as f:
+            csv.writer(f).writerow(FIELDS)
+        for scene in args.scenes:
+            status |= run_scene(scene, args, csv_path)
+    rows = read_rows(csv_path)
+    plot(rows, os.path.join(args.out, "fuzz_memory.png"))
+    print("\n".join(settling(rows)))
+    print(f"wrote {csv_path} and fuzz_memory.png" + ("" if status == 0 else
+                                                       "; some fuzz tests failed (see above)"))
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,66 @@
+"""What a long run cannot grow (issue 27, the README's "Bounds"): the throttled log's keys and
+the error log's entries. The stream tables' bound is in test_vrep_streams_logic.py."""
+import pytest
+
+from epuck_vrep_compat.ros.common import log
+from epuck_vrep_compat.ros.common.log import ThrottledLog
+from epuck_vrep_compat.vrep.backend import MAX_ERROR_CHARS, MAX_ERRORS, ErrorLog
+
+
+@pytest.fixture
+def clock(monkeypatch):
+    """The log's wall clock, moved by hand; rospy's warnings counted."""
+    now, lines = [100.0], []
+    monkeypatch.setattr(log.time, "monotonic", lambda: now[0])
+    monkeypatch.setattr(log.rospy, "logwarn", lambda fmt, *args: lines.append(fmt % args))
+    return now, lines
+
+
+def test_throttled_log_throttles_per_key(clock):
+    now, lines = clock
+    throttled = ThrottledLog(period_s=5.0)
+    for _ in range(3):
+        throttled.warn("a", "a %d", 1)
+        throttled.warn("b", "b")
+    assert lines == ["a 1", "b"]
+    now[0] += 5.0
+    throttled.warn("a", "a %d", 2)
+    assert lines[-1] == "a 2"
+
+
+def test_throttled_log_forgets_expired_keys_first(clock):
+    now, lines = clock
+    throttled = ThrottledLog(period_s=5.0, max_keys=10)
+    for k in range(10):
+        throttled.warn(f"old {k}", "x")
+    now[0] += 6.0                       # every old key's period has passed
+    throttled.warn("fresh", "x")
+    throttled.warn("new", "x")
+    assert len(throttled) == 2          # the expired ten went, not only the oldest one
+    throttled.warn("fresh", "x")        # still throttled: it was kept
+    assert len(lines) == 12
+
+
+def test_throttled_log_keeps_at_most_max_keys_under_a_flood(clock):
+    now, lines = clock
+    throttled = ThrottledLog(period_s=5.0, max_keys=100)
+    for k in range(10_000):             # distinct keys (a client's names), all within a period
+        throttled.warn(f"topic {k}", "x")
+    assert len(throttled) == 100
+    throttled.warn("topic 9999", "x")   # the newest are the ones kept: still throttled
+    assert len(lines) == 10_000
+    assert log.MAX_KEYS == 1000
+
+
+def test_error_log_keeps_the_last_entries_each_cut():
+    errors = ErrorLog()
+    for k in range(MAX_ERRORS + 20):
+        errors.add(f"error {k}")
+    errors.add("x" * (10 * MAX_ERROR_CHARS))
+    kept = errors.take()
+    assert len(kept) == MAX_ERRORS
+    assert kept[0] == "error 21" and kept[-2] == f"error {MAX_ERRORS + 19}"
+    assert len(kept[-1]) == MAX_ERROR_CHARS and kept[-1].endswith("...")
+    assert errors.take() == []
+    errors.add("y" * MAX_ERROR_CHARS)   # at the bound: kept whole
+    assert errors.take() == ["y" * MAX_ERROR_CHARS]
