@@ -3,18 +3,18 @@
 learning worlds' step that a loaded machine does not disturb (wall time does).
 
 Builds the learning benchmark's worlds (bench/learn_bench.py: B worlds of R robots, noise off,
-its seeded commands), steps them --warmup times, then --steps times under callgrind's
-collection, which this script switches on around those steps alone (``valgrind
---collect-atstart=no`` and ``callgrind_control``-free: the toggle is the one function
-``BatchedWorlds::step``). So the count is the C++ step's, without Python, building or warm-up:
+its seeded commands), steps them --warmup times, then --steps times. Callgrind counts the
+instructions inside ``BatchedWorlds::step`` alone (``--toggle-collect``), so neither Python
+nor building the worlds counts; warm-up steps do, so count twice, with ``--steps 0`` and with
+``--steps 50``, and divide the difference by 50 x B x R for instructions per robot-step:
 
     valgrind --tool=callgrind --collect-atstart=no \\
         --toggle-collect='evc::BatchedWorlds::step*' --callgrind-out-file=/tmp/cg.%p \\
-        /usr/bin/python3 bench/step_instructions.py --worlds 100 --robots 10
+        /usr/bin/python3 bench/step_instructions.py --worlds 100 --robots 10 --steps 50
     callgrind_annotate /tmp/cg.<pid> | head -40     # the total and where it goes
 
-Divide the total by steps x B x R for instructions per robot-step; the script prints that
-divisor. Without valgrind it just steps (a smoke test).
+Instruction counts do not depend on the machine's load, unlike wall time. Without valgrind the
+script just steps (a smoke test).
 """
 import argparse
 import os
