@@ -183,7 +183,10 @@ def compare(now, path):
             print(f"{key}: shape or type {a.shape} {a.dtype} -> {b.shape} {b.dtype}")
             differ += 1
             continue
-        same = (a == b) | (np.isnan(a) & np.isnan(b)) if a.dtype.kind == "f" else a == b
+        if a.dtype.kind == "f":   # bit for bit: -0.0 differs from 0.0, NaN equals NaN
+            same = ((a == b) & (np.signbit(a) == np.signbit(b))) | (np.isnan(a) & np.isnan(b))
+        else:
+            same = a == b
         if not same.all():
             diff = np.abs(a.astype(float) - b.astype(float))[~same]
             print(f"{key}: {int((~same).sum())} of {a.size} values differ, "
