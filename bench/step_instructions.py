@@ -39,7 +39,8 @@ def main():
         core.step(learn_bench.STEP_S, commands[i % len(commands)])
     for i in range(args.steps):
         core.step(learn_bench.STEP_S, commands[(args.warmup + i) % len(commands)])
-    print(f"robot-steps counted: {args.steps * args.worlds * args.robots}")
+    print(f"{args.worlds} x {args.robots} robots stepped {args.warmup} + {args.steps} times "
+          f"({args.steps * args.worlds * args.robots} robot-steps after the warm-up)")
 
 
 if __name__ == "__main__":
