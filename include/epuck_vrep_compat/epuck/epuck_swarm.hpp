@@ -185,7 +185,8 @@ class EpuckSwarm {
   void read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
   using NearbyIterator = std::vector<const Body*>::const_iterator;
   void find_nearby(bool world_changed);
-  void read_proximity(Robot& robot, NearbyIterator begin, NearbyIterator end);
+  void read_proximity(Robot& robot, const Quat& heading, NearbyIterator begin,
+                      NearbyIterator end);
   template <typename Get>
   RowMatrixXd per_robot(int columns, Get get) const;
   template <typename Get>

@@ -22,6 +22,8 @@
 /// The draw order above is part of the model: a replay with the same seed gives the same values.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "epuck_vrep_compat/random/rng.hpp"
@@ -41,9 +43,24 @@ struct RangeNoise {
 void validate_range_noise(const RangeNoise& noise, double min_range_m, double max_range_m);
 
 /// Applies the model to one clean reading with @p rng; sets @p applied when noise was added.
-/// Parameters are assumed valid (see validate_range_noise); this runs per sensor per step.
-double apply_range_noise(double clean_m, double min_range_m, double max_range_m,
-                         const RangeNoise& noise, Rng& rng, bool& applied);
+/// Parameters are assumed valid (see validate_range_noise); this runs per sensor per step, so it
+/// is defined here to be inlined (one draw when no noise is added).
+inline double apply_range_noise(double clean_m, double min_range_m, double max_range_m,
+                                const RangeNoise& noise, Rng& rng, bool& applied) {
+  double reading = clean_m;
+  applied = rng.uniform() <= noise.probability;
+  if (applied) {
+    const double magnitude = std::abs(noise.mean_m + noise.stddev_m * rng.normal());
+    if (clean_m == min_range_m) {
+      reading += magnitude;
+    } else if (clean_m == max_range_m) {
+      reading -= magnitude;
+    } else {
+      reading += rng.uniform() <= 0.5 ? magnitude : -magnitude;
+    }
+  }
+  return std::clamp(reading, min_range_m, max_range_m);
+}
 
 /// Noisy readings and which of them received noise.
 struct NoisyRanges {

@@ -25,10 +25,21 @@ class Rng {
   explicit Rng(std::uint64_t seed = 0);
 
   /// The next raw 64-bit output.
-  std::uint64_t next_u64();
+  std::uint64_t next_u64() {
+    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 45);
+    return result;
+  }
 
   /// Uniform in (0, 1]: the top 53 bits plus one, times 2^-53. Never 0, so log(u) is finite.
-  double uniform();
+  /// (Defined here, as next_u64 is, so that the per-sensor draws of a step are inlined.)
+  double uniform() { return static_cast<double>((next_u64() >> 11) + 1) * 0x1.0p-53; }
 
   /// Standard normal by Box–Muller as in the e-puck noise model: X = sqrt(-2 ln U1) cos(2π U2).
   /// Consumes two uniforms per call and uses the cosine branch only, so replays stay simple.
@@ -38,6 +49,8 @@ class Rng {
   std::uint64_t state_digest() const;
 
  private:
+  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
   std::uint64_t s_[4];
 };
 

@@ -183,16 +183,11 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
   const std::size_t first = hit_paces(rotation, directions, scratch);
   // The reading is the shortest hit over the rays, the earliest ray on a tie. The ray that may
   // hit soonest usually finds it at once; every ray that cannot beat the best so far is then
-  // skipped, which changes nothing.
+  // skipped, which changes nothing. The checks are inline: most rays stop at them.
   std::size_t best_ray = directions.size();
-  const auto try_ray = [&](std::size_t k) {
-    // Ray k wins with a shorter hit, or an equal one if it comes earlier.
-    const double limit = std::min(best.distance_m, sensor.max_range_m);
-    if (!may_hit(scratch, k, limit, false) ||
-        (k > best_ray && !may_hit(scratch, k, best.distance_m, true))) {
-      return;
-    }
+  const auto cast = [&](std::size_t k, double limit) {
     const RayHit hit = ray_cast_targets(targets, rotation * directions[k], limit);
+    // Ray k wins with a shorter hit, or an equal one if it comes earlier.
     if (hit.handle < 0 || hit.distance_m > best.distance_m ||
         (hit.distance_m == best.distance_m && k > best_ray)) {
       return;
@@ -203,9 +198,15 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
     best.point_m = directions[k] * hit.distance_m;
     best.normal = rotation.transpose() * hit.normal;
   };
-  try_ray(first);
+  if (may_hit(scratch, first, sensor.max_range_m, false)) cast(first, sensor.max_range_m);
   for (std::size_t k = 0; k < directions.size(); ++k) {
-    if (k != first) try_ray(k);
+    if (k == first) continue;
+    const double limit = std::min(best.distance_m, sensor.max_range_m);
+    if (!may_hit(scratch, k, limit, false) ||
+        (k > best_ray && !may_hit(scratch, k, best.distance_m, true))) {
+      continue;
+    }
+    cast(k, limit);
   }
   return best;
 }

@@ -45,6 +45,8 @@ Pose2 integrate_arc(const Pose2& pose, const Twist2& twist, double dt_s) {
 }
 
 double wrap_angle(double angle_rad) {
+  // Inside (-π, π) remainder returns the angle itself, bit for bit; most calls are there.
+  if (std::abs(angle_rad) < kPi) return angle_rad;
   const double wrapped = std::remainder(angle_rad, 2.0 * kPi);  // in [-π, π]
   return wrapped >= kPi ? wrapped - 2.0 * kPi : wrapped;
 }

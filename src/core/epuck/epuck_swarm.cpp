@@ -234,7 +234,8 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
     const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
                         (robot.pose.y_m - start[i].y_m) / dt_s, yaw_rate);
     read_imu(robot, velocity, start[i].yaw_rad, dt_s);
-    read_proximity(robot, nearby_.begin() + nearby_first_[i],
+    // The body's orientation is the robot's heading: contacts moved the body, never turned it.
+    read_proximity(robot, bodies_[i].pose.orientation, nearby_.begin() + nearby_first_[i],
                    nearby_.begin() + nearby_first_[i + 1]);
   }
   revision_seen_ = world_.revision();
@@ -305,8 +306,10 @@ void EpuckSwarm::find_nearby(bool world_changed) {
 }
 
 // [@p begin, @p end): what the robot's cones may see (from find_nearby); of these, only what
-// may lie within reach of one of its cones is handed to them.
-void EpuckSwarm::read_proximity(Robot& robot, NearbyIterator begin, NearbyIterator end) {
+// may lie within reach of one of its cones is handed to them. @p heading: the robot's yaw as a
+// rotation about z (its body's orientation, body_pose).
+void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterator begin,
+                                NearbyIterator end) {
   const Pose2& pose = robot.pose;
   candidates_.clear();
   for (NearbyIterator it = begin; it != end; ++it) {
@@ -321,7 +324,6 @@ void EpuckSwarm::read_proximity(Robot& robot, NearbyIterator begin, NearbyIterat
     }
     candidates_.push_back(candidate);
   }
-  const Quat heading(Eigen::AngleAxisd(pose.yaw_rad, Vec3::UnitZ()));
   const Vec3 centre(pose.x_m, pose.y_m, 0.0);
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
     const ConeSensor& sensor = model_.sensors[k];

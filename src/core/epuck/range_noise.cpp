@@ -23,23 +23,6 @@ void validate_range_noise(const RangeNoise& noise, double min_range_m, double ma
   }
 }
 
-double apply_range_noise(double clean_m, double min_range_m, double max_range_m,
-                         const RangeNoise& noise, Rng& rng, bool& applied) {
-  double reading = clean_m;
-  applied = rng.uniform() <= noise.probability;
-  if (applied) {
-    const double magnitude = std::abs(noise.mean_m + noise.stddev_m * rng.normal());
-    if (clean_m == min_range_m) {
-      reading += magnitude;
-    } else if (clean_m == max_range_m) {
-      reading -= magnitude;
-    } else {
-      reading += rng.uniform() <= 0.5 ? magnitude : -magnitude;
-    }
-  }
-  return std::clamp(reading, min_range_m, max_range_m);
-}
-
 NoisyRanges apply_range_noise(const Eigen::Ref<const VectorXd>& clean_m, double min_range_m,
                               double max_range_m, const RangeNoise& noise, std::uint64_t seed) {
   validate_range_noise(noise, min_range_m, max_range_m);

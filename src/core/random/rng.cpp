@@ -7,8 +7,6 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 
-std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-
 // The splitmix64 output function alone, for mixing values that are not a running state.
 std::uint64_t mix(std::uint64_t x) {
   std::uint64_t state = x;
@@ -32,22 +30,6 @@ std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t robot_index, std::ui
 Rng::Rng(std::uint64_t seed) {
   std::uint64_t state = seed;
   for (auto& word : s_) word = splitmix64(state);
-}
-
-std::uint64_t Rng::next_u64() {
-  const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-  const std::uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = rotl(s_[3], 45);
-  return result;
-}
-
-double Rng::uniform() {
-  return static_cast<double>((next_u64() >> 11) + 1) * 0x1.0p-53;
 }
 
 double Rng::normal() {

@@ -1,7 +1,9 @@
 // Ray casts and box queries of a CollisionWorld: Bullet's broadphase tree finds the candidate
 // objects, closed-form geometry (primitive_ray) finds the exact hit. Box queries come singly
-// or in batches (one tree query over the region, then a grid), rays from a shared origin can
-// skip the objects they cannot reach (body.hpp).
+// or in batches (one tree query over the region, then a grid); in a world of a few objects
+// (a learning world) a query tests every object's box and a small batch every pair instead,
+// with the same answers. Rays from a shared origin can skip the objects they cannot reach
+// (body.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +21,10 @@ namespace evc {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Below these sizes a box query tests every object instead of descending Bullet's tree, and a
+// batch of box queries tests every (query, object) pair instead of building a grid.
+constexpr std::size_t kSmallWorld = 32;
+constexpr std::size_t kSmallBatch = 256;
 
 const Body& body_of(const btBroadphaseProxy* proxy) {
   const auto* object = static_cast<const btCollisionObject*>(proxy->m_clientObject);
@@ -265,7 +271,14 @@ void CollisionWorld::overlap_query(const Vec3& aabb_min, const Vec3& aabb_max, i
                                    int ignore_handle, std::vector<const Body*>& out) const {
   const std::size_t first = out.size();
   BoxCollector collector(to_bt(aabb_min), to_bt(aabb_max), mask, ignore_handle, out);
-  broadphase_->aabbTest(to_bt(aabb_min), to_bt(aabb_max), collector);
+  if (bodies_.size() <= kSmallWorld) {
+    // A few objects: testing every object's box finds what the tree descent finds (a leaf's
+    // fattened box holds the object's box), for less than the descent costs.
+    const btCollisionObjectArray& objects = world_->getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) collector.process(objects[i]->getBroadphaseHandle());
+  } else {
+    broadphase_->aabbTest(to_bt(aabb_min), to_bt(aabb_max), collector);
+  }
   // Handle order, not tree order: ties between equally close objects then resolve the same way
   // in a replay after a reset, whatever the tree looks like by then.
   std::sort(out.begin() + first, out.end(),
@@ -285,13 +298,31 @@ void overlap_query_batch(const CollisionWorld& world, const std::vector<BoxQuery
     highest = highest.cwiseMax(query.max_m);
     widest_m = std::max(widest_m, (query.max_m - query.min_m).head<2>().maxCoeff());
   }
-  std::vector<const Body*> found;
+  // Kept per thread from one call to the next: a step's queries allocate nothing.
+  thread_local std::vector<const Body*> found;
+  thread_local std::vector<ObjectBox> objects;
+  found.clear();
+  objects.clear();
   world.overlap_query(lowest, highest, mask, -1, found);
-  std::vector<ObjectBox> objects;
-  objects.reserve(found.size());
   for (const Body* body : found) {
     const btBroadphaseProxy* proxy = body->object->getBroadphaseHandle();
     objects.push_back(ObjectBox{proxy->m_aabbMin, proxy->m_aabbMax, body->handle});
+  }
+  if (queries.size() * objects.size() <= kSmallBatch) {
+    // Few pairs: each query tests every object, in handle order (found's), without a grid.
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const BoxQuery& query = queries[q];
+      const btVector3 query_min = to_bt(query.min_m), query_max = to_bt(query.max_m);
+      for (std::size_t k = 0; k < objects.size(); ++k) {
+        const ObjectBox& object = objects[k];
+        if (object.handle != query.ignore_handle &&
+            TestAabbAgainstAabb2(object.min_m, object.max_m, query_min, query_max)) {
+          out.push_back(found[k]);
+        }
+      }
+      first[q + 1] = out.size();
+    }
+    return;
   }
   const CellGrid grid(lowest, highest, widest_m, queries.size() + objects.size(), objects);
   // Each query meets the objects of its cells, each object once, and tests their boxes as

@@ -1,0 +1,47 @@
+#!/usr/bin/python3
+"""Instructions per robot-step of ``BatchedWorlds.step``, counted by callgrind: a measure of the
+learning worlds' step that a loaded machine does not disturb (wall time does).
+
+Builds the learning benchmark's worlds (bench/learn_bench.py: B worlds of R robots, noise off,
+its seeded commands), steps them --warmup times, then --steps times. Callgrind counts the
+instructions inside ``BatchedWorlds::step`` alone (``--toggle-collect``), so neither Python
+nor building the worlds counts; warm-up steps do, so count twice, with ``--steps 0`` and with
+``--steps 50``, and divide the difference by 50 x B x R for instructions per robot-step:
+
+    valgrind --tool=callgrind --collect-atstart=no \\
+        --toggle-collect='evc::BatchedWorlds::step*' --callgrind-out-file=/tmp/cg.%p \\
+        /usr/bin/python3 bench/step_instructions.py --worlds 100 --robots 10 --steps 50
+    callgrind_annotate /tmp/cg.<pid> | head -40     # the total and where it goes
+
+Instruction counts do not depend on the machine's load, unlike wall time. Without valgrind the
+script just steps (a smoke test).
+"""
+import argparse
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import learn_bench  # noqa: E402 (beside this script: the benchmark's worlds)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--worlds", type=int, default=100)
+    parser.add_argument("--robots", type=int, default=10)
+    parser.add_argument("--warmup", type=int, default=20)
+    parser.add_argument("--steps", type=int, default=50)
+    parser.add_argument("--seed", type=int, default=7)
+    args = parser.parse_args()
+    core = learn_bench.build_ours(args.worlds, args.robots, args.seed)
+    commands = learn_bench.command_table(args.worlds, args.robots, args.seed)
+    for i in range(args.warmup):
+        core.step(learn_bench.STEP_S, commands[i % len(commands)])
+    for i in range(args.steps):
+        core.step(learn_bench.STEP_S, commands[(args.warmup + i) % len(commands)])
+    print(f"{args.worlds} x {args.robots} robots stepped {args.warmup} + {args.steps} times "
+          f"({args.steps * args.worlds * args.robots} robot-steps after the warm-up)")
+
+
+if __name__ == "__main__":
+    main()
