@@ -7,6 +7,7 @@ import tempfile
 import time
 import unittest
 
+import rospkg
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
@@ -94,6 +95,7 @@ class BadInput(unittest.TestCase):
         with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
             f.write("obstacles:\n  - {shape: cone, position_m: [0, 0]}\n")
             malformed = f.name
+        cell = os.path.join(rospkg.RosPack().get_path(PKG), "worlds", "merlin_safety.yaml")
         cases = [
             (["_world:=/nonexistent/scene.yaml"], "cannot read scene file"),
             ([f"_world:={malformed}"], "obstacles[0].shape"),
@@ -106,6 +108,14 @@ class BadInput(unittest.TestCase):
             (["_noise_file:=/nonexistent/noise.yaml"], "~noise_file"),
             ([f"_noise_file:={malformed}"], "noise file must be a mapping"),
             (['_robots:={ePuck9: {ir_noise: {probability: 0.5}}}'], "~robots/ePuck9"),
+            ([f"_world:={cell}", "_operator_walk_seed:=-2"], "'~operator_walk_seed' must be"),
+            ([f"_world:={cell}", "_operator_walk_seed:=abc"], "'~operator_walk_seed' must be"),
+            ([f"_world:={cell}", "_operator_walk_seed:=1", "_operator_trace:=a.csv"],
+             "give one, not both"),
+            ([f"_world:={cell}", "_operator_trace:=/nonexistent/walk.csv"],
+             "'~operator_trace': operator trace '/nonexistent/walk.csv': cannot read it"),
+            ([f"_world:={cell}", f"_operator_trace:={malformed}"], "row 1: the header must be"),
+            (["_operator_walk_seed:=3"], "has no cell operator"),
         ]
         try:
             for k, (args, expected) in enumerate(cases):

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from epuck_vrep_compat.cell.devices.operator import WalkingOperator
+from epuck_vrep_compat.cell.devices.operator_motion import PingPongPath
 from epuck_vrep_compat.geometry.transforms import quat_rotate
 from epuck_vrep_compat.scene.cell_file import parse_cell
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
@@ -62,10 +63,10 @@ def test_a_bad_cell_entry_is_named(data, key):
 def test_the_operator_walks_out_and_back_at_its_speed():
     spec = parse_cell(_cell(operator={"name": "Bill", "waypoints_m": [[0, 0], [2, 0], [2, 1]],
                                       "speed_m_s": 1.0}), "cell", WORLDS).operator
-    walker = WalkingOperator(spec)
+    walker = WalkingOperator(spec, PingPongPath(spec.waypoints_m, spec.speed_m_s))
     samples = []
-    for _ in range(80):              # 8 s at 0.1 s: 3 m out, 3 m back, 2 m out again
-        walker.advance(0.1)
+    for k in range(80):              # 8 s at 0.1 s: 3 m out, 3 m back, 2 m out again
+        walker.seek(0.1 * (k + 1))
         samples.append(walker.state())
     x, y, heading, outbound = samples[14]          # 1.5 m: on the first segment
     assert (x, y) == pytest.approx((1.5, 0.0)) and heading == pytest.approx(0.0) and outbound

@@ -47,7 +47,10 @@ class Cell(SimulationExtension):
         self._links = LinkCollisions(self.arms, registry, world)
         self.operator, self.operator_handles = None, ()
         if spec.operator is not None:
-            self.operator, self.operator_handles = add_operator(spec.operator, registry, world)
+            robots = [(a.name, a.position_m[0], a.position_m[1]) for a in spec.arms]
+            self.operator, self.operator_handles = add_operator(
+                spec.operator, registry, world, sim.scene.arena.size_m, robots)
+        self._operator_frame0 = sim.frame       # his time counts from here (start, reset)
         self.proximity = RayProximityBank(spec.proximity, registry, self._link_row)
         self._build_laser(registry, world)
         self._build_cameras()
@@ -109,8 +112,8 @@ class Cell(SimulationExtension):
             pb.stepSimulation(physicsClientId=self.client)
         for arm in self.arms:
             arm.read_state()
-        if self.operator is not None:
-            self.operator.advance(dt)
+        if self.operator is not None:       # his pose: a function of simulated time only
+            self.operator.seek((self.sim.frame - self._operator_frame0) * self.sim.step_s)
         self._sync_world()
         self._sense()
         write_blob_signals(self.sim.signals["float"], self.camera_specs, self.blobs)
@@ -275,6 +278,7 @@ class Cell(SimulationExtension):
         self.watchdog.restart(self.sim.time_s)
         for arm in self.arms:
             arm.reset()
+        self._operator_frame0 = self.sim.frame
         if self.operator is not None:
             self.operator.reset()
         if self.laser is not None:

@@ -1,6 +1,6 @@
-"""The ``cell:`` section of a scene file: articulated robots from URDF, a walking operator, and
-the cell's sensors (ray proximity sensors on robot links, a planar laser scanner, ceiling
-cameras with blob detection, a Kinect).
+"""The ``cell:`` section of a scene file: articulated robots from URDF, a walking operator (its
+own section, :mod:`.operator_file`), and the cell's sensors (ray proximity sensors on robot
+links, a planar laser scanner, ceiling cameras with blob detection, a Kinect).
 
 Same rules as the rest of the scene file: lengths in metres, angles in radians, colours RGB in
 0..1, and a malformed entry raises :class:`SceneError` naming its key. See
@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
 from epuck_vrep_compat.compat.topics import CELL_LASER_TOPIC
+from epuck_vrep_compat.scene.operator_file import OperatorSpec, parse_operator
 from epuck_vrep_compat.scene.validation import (
     SceneError, as_list, color, number, numbers, only, positive)
 
@@ -30,18 +31,6 @@ class ArmSpec:
     script_period_s: float = 20.0
     script_amplitude: float = 0.5              # fraction of each joint's half range
     color: Tuple[float, float, float] = (0.9, 0.45, 0.1)
-
-
-@dataclass
-class OperatorSpec:
-    """The walking operator: its path and its body's size and colour."""
-    name: str = "Bill"
-    waypoints_m: List[Tuple[float, float]] = field(default_factory=list)
-    speed_m_s: float = 1.2
-    body_radius_m: float = 0.2
-    body_height_m: float = 1.3
-    head_radius_m: float = 0.11
-    color: Tuple[float, float, float] = (0.1, 0.8, 0.2)
 
 
 @dataclass
@@ -118,7 +107,7 @@ def parse_cell(d, where: str, base_dir: str) -> CellSpec:
     cell.arms = [_arm(a, f"{where}.robots[{i}]", base_dir)
                  for i, a in enumerate(as_list(d.get("robots", []), f"{where}.robots"))]
     if "operator" in d:
-        cell.operator = _operator(d["operator"], f"{where}.operator")
+        cell.operator = parse_operator(d["operator"], f"{where}.operator", base_dir)
     cell.proximity = [_prox(p, f"{where}.proximity_sensors[{i}]") for i, p in
                       enumerate(as_list(d.get("proximity_sensors", []),
                                       f"{where}.proximity_sensors"))]
@@ -184,21 +173,6 @@ def _arm(d, where, base_dir) -> ArmSpec:
         raise SceneError(f"{where}.script_amplitude must be in 0..1, got {a.script_amplitude}")
     a.color = color(d.get("color", a.color), f"{where}.color")
     return a
-
-
-def _operator(d, where) -> OperatorSpec:
-    _mapping(d, {"name", "waypoints_m", "speed_m_s", "body_radius_m", "body_height_m",
-                 "head_radius_m", "color"}, where)
-    o = OperatorSpec(name=_name(d, where))
-    points = as_list(_required(d, "waypoints_m", where), f"{where}.waypoints_m")
-    o.waypoints_m = [tuple(numbers(p, 2, f"{where}.waypoints_m[{i}]"))
-                     for i, p in enumerate(points)]
-    if len(o.waypoints_m) < 2:
-        raise SceneError(f"{where}.waypoints_m needs at least 2 points")
-    for key in ("speed_m_s", "body_radius_m", "body_height_m", "head_radius_m"):
-        setattr(o, key, positive(d.get(key, getattr(o, key)), f"{where}.{key}"))
-    o.color = color(d.get("color", o.color), f"{where}.color")
-    return o
 
 
 def _prox(d, where) -> ProxSpec:

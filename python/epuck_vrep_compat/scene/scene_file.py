@@ -11,6 +11,7 @@ from typing import List, Optional, Tuple
 
 from epuck_vrep_compat.scene.cell_file import CellSpec, parse_cell
 from epuck_vrep_compat.scene.floor_regions import FloorRegion, parse_floor_regions
+from epuck_vrep_compat.scene.operator_file import check_on_floor
 from epuck_vrep_compat.scene.validation import (  # noqa: F401  (SceneError, read_yaml: API)
     SceneError, as_list, color, number, numbers, only, positive, read_yaml)
 
@@ -99,6 +100,8 @@ def parse_scene(data, where: str = "scene", base_dir: str = ".") -> Scene:
     cell = None
     if "cell" in data:
         cell = parse_cell(data["cell"], f"{where}: cell", base_dir)
+        if cell.operator is not None:
+            check_on_floor(cell.operator, arena.size_m)
     regions = parse_floor_regions(data.get("floor_regions", []), f"{where}: floor_regions")
     return Scene(arena, obstacles, robots, cell, floor_regions=regions)
 

@@ -1,49 +1,57 @@
-"""The walking operator: a primitive human (cylinder body, sphere head) that walks a polyline of
-waypoints at constant speed, to its end and back, over and over. Kinematic: it goes through
+"""The walking operator: a primitive human (cylinder body, sphere head) moved by his motion (a
+polyline walked out and back, a seeded random walk, or a recorded trace: :mod:`.operator_motion`)
+as a function of the time since the simulation started or was reset. Kinematic: he goes through
 robots rather than around them, as V-REP's path-following "Bill" does."""
-import math
-
 import numpy as np
 
 from epuck_vrep_compat._core import GROUP_DYNAMIC
+from epuck_vrep_compat.cell.devices.operator_motion import PingPongPath, trace_path
+from epuck_vrep_compat.cell.devices.operator_walk import Floor, generate_walk
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, quat_from_yaw
 
 
+def operator_motion(spec, arena_size_m, robots):
+    """The motion of ``spec`` (an OperatorSpec, its trace on the floor: the scene checked it)
+    in an arena of ``arena_size_m`` (centred on the origin) with ``robots`` ((name, base x,
+    base y) each): (path, the legs of a walk or None)."""
+    if spec.walk is not None:
+        return generate_walk(spec.walk, Floor.of_arena(arena_size_m, spec.body_radius_m), robots)
+    if spec.trace is not None:
+        return trace_path(spec.trace), None
+    return PingPongPath(spec.waypoints_m, spec.speed_m_s), None
+
+
 class WalkingOperator:
-    """Where the operator is along its path, as the distance walked grows."""
+    """Where the operator is at the time :meth:`seek` last set (0 at the start)."""
 
-    def __init__(self, spec):
+    def __init__(self, spec, path, legs=None):
         self.spec = spec
-        self.points = np.asarray(spec.waypoints_m, dtype=float)
-        seg = np.diff(self.points, axis=0)
-        self.lengths = np.hypot(seg[:, 0], seg[:, 1])
-        if not (self.lengths > 0.0).all():
-            raise ValueError("operator waypoints must not repeat consecutively")
-        self.cumulative = np.concatenate(([0.0], np.cumsum(self.lengths)))
-        self.path_length = float(self.cumulative[-1])
-        self.distance = 0.0            # walked since the start, metres
+        self.path = path                 # PingPongPath or TimedPath: .at(t), .duration_s
+        self.legs = legs                 # a generated walk's legs, else None
+        self.time_s = 0.0                # since the start or the last reset
 
-    def advance(self, dt: float):
-        self.distance += self.spec.speed_m_s * dt
+    def seek(self, time_s: float):
+        self.time_s = float(time_s)
 
     def reset(self):
-        self.distance = 0.0
+        self.time_s = 0.0
+
+    def describe(self) -> str:
+        """His motion in a line, for the log."""
+        s = self.spec
+        if s.walk is not None:
+            robots = sorted({leg.approaches for leg in self.legs if leg.approaches})
+            return (f"{s.name} walks seed {s.walk.seed}: {len(self.legs)} legs in "
+                    f"{self.path.duration_s:.2f} s, approaching {', '.join(robots) or 'no robot'}")
+        if s.trace is not None:
+            return (f"{s.name} replays '{s.trace.path}': {len(s.trace.t_s)} rows, "
+                    f"{self.path.duration_s:.2f} s")
+        return f"{s.name} walks {len(s.waypoints_m)} waypoints at {s.speed_m_s} m/s, out and back"
 
     def state(self):
-        """(x, y, heading [rad], outbound?) at the current walked distance."""
-        lap = math.fmod(self.distance, 2.0 * self.path_length)
-        outbound = lap <= self.path_length
-        s = lap if outbound else 2.0 * self.path_length - lap
-        i = int(np.clip(np.searchsorted(self.cumulative, s, side="right") - 1, 0,
-                        len(self.lengths) - 1))
-        a, b = self.points[i], self.points[i + 1]
-        t = (s - self.cumulative[i]) / self.lengths[i]
-        x, y = a + t * (b - a)
-        heading = math.atan2(b[1] - a[1], b[0] - a[0])
-        if not outbound:
-            heading = math.atan2(-math.sin(heading), -math.cos(heading))
-        return float(x), float(y), heading, outbound
+        """(x, y, heading [rad], moving or outbound?) at the current time."""
+        return self.path.at(self.time_s)
 
     def pose(self):
         """Base frame on the floor under the body's axis, x = walking direction."""
@@ -63,11 +71,11 @@ class WalkingOperator:
         return self.spec.body_height_m + 2.0 * self.spec.head_radius_m
 
 
-def add_operator(spec, registry, world):
+def add_operator(spec, registry, world, arena_size_m, robots):
     """The operator of ``spec`` (an OperatorSpec) into the scene: its body (a cylinder whose
-    pose follows the walk) and head (a sphere on it), in the registry and the collision world.
-    Returns (the WalkingOperator, (body handle, head handle))."""
-    operator = WalkingOperator(spec)
+    pose follows his motion, :func:`operator_motion`) and head (a sphere on it), in the registry
+    and the collision world. Returns (the WalkingOperator, (body handle, head handle))."""
+    operator = WalkingOperator(spec, *operator_motion(spec, arena_size_m, robots))
     base = registry.add(spec.name, vc.OBJECT_SHAPE, vc.WORLD, pose_source=operator.pose,
                         properties=dict(shape="cylinder", color=spec.color))
     world.add_cylinder(base.handle, spec.body_radius_m, spec.body_height_m, np.zeros(3),

@@ -6,6 +6,7 @@ naming the parameter; the node then exits non-zero.
 import math
 import os
 from dataclasses import dataclass, field
+from typing import Optional
 
 import rospy
 
@@ -19,6 +20,8 @@ from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
 from epuck_vrep_compat.epuck.noise import (
     IrNoise, NoiseConfigError, NoiseSettings, per_sensor, triple)
 from epuck_vrep_compat.epuck.noise_presets import IMU_KEYS, load_noise_file, preset
+from epuck_vrep_compat.scene.operator_file import check_on_floor, override_motion
+from epuck_vrep_compat.scene.validation import SceneError
 from epuck_vrep_compat.sim.simulation import SEED, STEP_S
 
 
@@ -36,6 +39,8 @@ class SimParams:
     speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
     model_dirs: list = field(default_factory=list)  # simRosLoadModel's folders besides models/
+    operator_walk_seed: Optional[int] = None    # the cell operator's walk, over the scene's
+    operator_trace: Optional[str] = None        # his recorded trace (CSV), over the scene's
     step_s: float = STEP_S
     paused: bool = False
     cmd_vel_scaling: str = "vrep"       # the profile's own (profiles.TopicProfile defaults)
@@ -48,11 +53,16 @@ class SimParams:
     noise_source: str = "real_robot"      # the preset, and the noise file over it if any
     extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
 
+    def _operator(self) -> str:
+        if self.operator_walk_seed is not None:
+            return f"operator_walk_seed={self.operator_walk_seed} "
+        return f"operator_trace={self.operator_trace} " if self.operator_trace else ""
+
     def summary(self) -> str:
         return (f"world={self.world} n={self.n} robots={','.join(self.robot_names[:4])}"
                 f"{'..' if self.n > 4 else ''} profile={self.profile} seed={self.seed} "
                 f"noise={'on' if self.noise.enabled else 'off'} ({self.noise_source}) "
-                f"rtf={self.rtf} "
+                f"rtf={self.rtf} {self._operator()}"
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
                 f"{self.camera.width}x{self.camera.height}@{self.camera.rate_hz}Hz")
@@ -78,6 +88,7 @@ def read_params(default_world: str) -> SimParams:
     p.model_dirs = _get("model_dirs", [], list,
                         lambda v: all(isinstance(d, str) and os.path.isdir(d) for d in v),
                         "must be a list of existing folders")
+    p.operator_walk_seed, p.operator_trace = _read_operator()
     p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
     profile = PROFILES[p.profile]
@@ -103,6 +114,39 @@ def read_params(default_world: str) -> SimParams:
     p.noise, p.noise_source = _read_noise(p.robot_names)
     p.extras = read_extras_settings(profile)
     return p
+
+
+def _read_operator():
+    """``~operator_walk_seed`` and ``~operator_trace``: unset or empty, the scene's operator."""
+    seed = rospy.get_param("~operator_walk_seed", "")
+    if seed == "":
+        seed = None
+    elif isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ParamError("parameter '~operator_walk_seed' must be a non-negative integer (the "
+                         f"operator's walk seed) or empty (the scene's operator), got {seed!r}")
+    trace = _get("operator_trace", "", str)
+    if seed is not None and trace:
+        raise ParamError("parameters '~operator_walk_seed' and '~operator_trace': give one, "
+                         "not both")
+    return seed, trace or None
+
+
+def with_operator(scene, p: SimParams):
+    """``scene`` with its operator moving as ``~operator_walk_seed`` or ``~operator_trace``
+    say (a trace's relative path: against the scene file's folder); ParamError."""
+    if p.operator_walk_seed is None and p.operator_trace is None:
+        return scene
+    name = "operator_walk_seed" if p.operator_trace is None else "operator_trace"
+    if scene.cell is None or scene.cell.operator is None:
+        raise ParamError(f"parameter '~{name}': the scene '{p.world}' has no cell operator")
+    try:
+        scene.cell.operator = override_motion(scene.cell.operator, p.operator_walk_seed,
+                                              p.operator_trace,
+                                              os.path.dirname(os.path.abspath(p.world)))
+        check_on_floor(scene.cell.operator, scene.arena.size_m)
+    except SceneError as e:
+        raise ParamError(f"parameter '~{name}': {e}") from None
+    return scene
 
 
 def slice_fov(full_vertical_fov_rad: float, height: int, sensor_rows: int = 480) -> float:

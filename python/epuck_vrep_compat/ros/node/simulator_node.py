@@ -37,7 +37,7 @@ from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
-from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params
+from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params, with_operator
 from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
                                                           share_connection_poller,
                                                           widen_accept_queue)
@@ -63,7 +63,7 @@ class SimulatorNode:
         """``models_dir``: the package's folder of the model files simRosLoadModel loads
         (``params.model_dirs``, the user's, come after it)."""
         self.params = params
-        scene = load_scene(params.world)
+        scene = with_operator(load_scene(params.world), params)
         profile = PROFILES[params.profile]
         names = params.robot_names
         config = SimulationConfig(names, params.step_s, params.seed, params.noise,
@@ -100,6 +100,8 @@ class SimulatorNode:
                 self.cell = CellFace(self.sim, self._tf_static, watchdog)
             except ValueError as e:
                 raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
+            if self.sim.cell.operator is not None:
+                rospy.loginfo("operator: %s", self.sim.cell.operator.describe())
         self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]
