@@ -15,7 +15,7 @@ watchdog). Units: metres, seconds of simulated time, steps of the recording.
 - the scale in effect: the last speed_scale at or before the step, 0 while the watchdog's
   safety_stop holds, 1 before any; productivity = its mean over the walk (task progress
   with the operator against without: the scale slows the task's clock), and the cycle-time
-  ratio its inverse;
+  ratio its inverse; ``protective_stop_s`` the time at scale 0, ``final_scale`` the last;
 - reaction, per approach (as ``bench/cell_bench.py --safety``): from the first step the
   separation is below S_p(t) to the first step with the scale in effect below 1 (negative:
   the slow-down came first, as it should); an approach ends when the operator is outside
@@ -35,7 +35,7 @@ CONTACT_M = 0.001
 PARAM_PREFIX = "monitor."
 COLUMNS = ("min_separation_m", "violation_s", "violation_steps", "contacts", "touches",
            "reaction_steps", "reaction_s", "productivity", "cycle_time_ratio",
-           "protective_stop_s", "tracker_error_mean_m", "tracker_error_p95_m")
+           "protective_stop_s", "final_scale", "tracker_error_mean_m", "tracker_error_p95_m")
 
 
 def monitor_parameters(params):
@@ -109,6 +109,7 @@ def walk_metrics(t, separation, robot_speed, tracker_error, applied_scale, p):
         "productivity": productivity,
         "cycle_time_ratio": 1.0 / productivity if productivity > 0 else math.inf,
         "protective_stop_s": held_time_s(t, np.asarray(applied_scale) <= 0.0),
+        "final_scale": float(applied_scale[-1]),
         "tracker_error_mean_m": float(np.mean(error)) if error.size else math.nan,
         "tracker_error_p95_m": float(np.percentile(error, 95)) if error.size else math.nan,
     }

@@ -23,7 +23,7 @@ from epuck_vrep_compat.experiment import coverage_maps, engine, plan, report_saf
 from epuck_vrep_compat.experiment import spec as spec_mod
 from epuck_vrep_compat.experiment.cli import write_report
 
-WALKS, CELL_WALKS = 200, 20
+WALKS, CELL_WALKS = 200, 10
 
 
 def shipped(name):
