@@ -93,7 +93,8 @@ def row(seed, monitor="ssm", fault="none", sep=1.0, violation=0.0, **params):
 
 
 def test_report_cells_worst_walk_and_replay():
-    rows = [row(0), row(1, sep=0.4), row(2, monitor="none", sep=-0.2, violation=1.5),
+    rows = [row(0, violation=0.1), row(1, sep=0.4, violation=0.2),
+            row(2, monitor="none", sep=-0.2, violation=1.5),
             row(3, reaction_time_s=0.1), {"status": "failed", "seed": 9, "run_key": "k9"}]
     cells = report_safety.cells(rows)
     assert list(cells)[0] == ("ssm", "none")
@@ -103,7 +104,7 @@ def test_report_cells_worst_walk_and_replay():
     assert "seed:=3" in command and "reaction_time_s:=0.1" in command \
         and "monitor:=ssm" in command and "fault:=none" in command
     text = report_safety.markdown(rows, "t")
-    assert "| ssm | none | 2 | 0 (0.00 s) | 0 | 0.40/0.43/0.70 |" in text
+    assert "| ssm | none | 2 | 2 (0.30 s) | 0 | 0.40/0.43/0.70 |" in text
     assert "## Failed runs" in text
 
 

@@ -2,8 +2,8 @@
 ``experiments/safety_ssm.yaml`` (their ``metric.*`` columns from ``metrics_safety``), one line
 per monitor x fault: walks, walks in violation and the time, contacts, the true minimum
 separation's p0/p5/p50, the reaction's p50/p99 (steps and seconds), productivity and the
-tracker's error; the coverage maps when there are; and each monitor's worst walk (the smallest
-true separation; ties: the longest violation) with the command that replays it.
+tracker's error; the coverage maps when there are; and each monitor's worst walk (the most
+contacts, then the longest violation) with the command that replays it.
 
 A monitor is named by the run's ``monitor.*`` parameters (``ssm``, ``ssm reaction_time_s=0.1``),
 a fault by ``fault.fault``. Only ok runs count; failed ones are listed apart.
@@ -55,6 +55,7 @@ def cell_line(rows):
         "min sep p0/p5/p50 [m]": "/".join(_pct(sep, q, "{:.2f}") for q in (0, 5, 50)),
         "reaction p50/p99 [steps]": "/".join(_pct(reaction, q, "{:.0f}") for q in (50, 99)),
         "reaction p99 [s]": _pct(reaction * STEP_S, 99, "{:.2f}"),
+        "stopped at the end": f"{int(np.count_nonzero(_values(rows, 'final_scale') <= 0.0))}",
         "productivity": _pct(_values(rows, "productivity"), 50, "{:.2f}"),
         "tracker error [m]": _pct(_values(rows, "tracker_error_mean_m"), 50, "{:.3f}"),
     }
@@ -71,10 +72,14 @@ def cells(rows):
 
 
 def worst_walk(rows):
-    """The ok row with the smallest true separation (ties: the longest violation)."""
+    """The ok row with the most contacts, then the longest violation, then the smallest true
+    separation (which alone says little: the operator walks through a stopped robot)."""
     def badness(r):
-        sep = r.get("metric.min_separation_m", math.inf)
-        return (sep if math.isfinite(sep) else math.inf, -r.get("metric.violation_s", 0.0))
+        def value(name, default):
+            v = r.get("metric." + name, default)
+            return v if v is not None and math.isfinite(v) else default
+        return (-value("contacts", 0.0), -value("violation_s", 0.0),
+                value("min_separation_m", math.inf))
     return min(rows, key=badness) if rows else None
 
 
