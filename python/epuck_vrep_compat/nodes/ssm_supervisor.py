@@ -17,7 +17,8 @@ and ``operator_uncertainty`` (Z_d) (``std_msgs/Float64``), ``protective_stop`` (
 
 Fail safe: a missing, stale (older than ``~stale_s``) or non-finite operator estimate, stale
 joint states or a failed separation query stop the robot (scale 0), with the reason on
-``status`` and a throttled warning. ``~set_enabled`` (``std_srvs/SetBool``) turns the override
+``status`` and a throttled warning. With ``~lockstep`` (and the simulator's
+``~lockstep_timeout_s``) it answers every step from that step's inputs (:mod:`ssm_pacing`). ``~set_enabled`` (``std_srvs/SetBool``) turns the override
 off (scale 1, monitoring goes on) and on again. Parameters: ``~robots`` (default: every robot
 the simulator reports), ``~ground_truth`` (false), ``~rate_hz`` (20), ``~stale_s`` (0.5) and
 the fields of :class:`SsmParameters` with their defaults.
@@ -41,13 +42,15 @@ from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds, root_twist
 from epuck_vrep_compat.nodes.ssm_markers import robot_markers
 from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
+from epuck_vrep_compat.nodes.ssm_pacing import StepPacer, lookup_root
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationRequest
 
 
 def read_parameters():
-    """(SsmParameters, robots, ground_truth, rate_hz, stale_s, operator_topic); ParamError."""
+    """(SsmParameters, robots, ground_truth, rate_hz, stale_s, operator_topic, lockstep);
+    ParamError."""
     p = SsmParameters()
     for name, default in vars(SsmParameters()).items():
         setattr(p, name, read_typed(name, default, float))
@@ -59,17 +62,23 @@ def read_parameters():
     if not isinstance(robots, list) or not all(isinstance(r, str) and r for r in robots):
         raise ParamError(f"parameter '~robots' must be a list of robot names, got {robots!r}")
     positive = (lambda v: v > 0), "must be > 0"
+    lockstep = read_typed("lockstep", False, bool)
+    if lockstep and not robots:
+        raise ParamError("parameter '~lockstep': lock-step needs the robots named in '~robots'")
     return (p, robots, read_typed("ground_truth", False, bool),
             read_typed("rate_hz", 20.0, float, *positive),
             read_typed("stale_s", 0.5, float, *positive),
-            read_typed("operator_topic", "/operator_tracker/pose", str))
+            read_typed("operator_topic", "/operator_tracker/pose", str), lockstep)
 
 
 class RobotChannel:
     """One supervised robot: its joint states in, its scale and reports out."""
 
-    def __init__(self, name, p):
+    def __init__(self, name, p, lockstep=False, on_joints=None):
+        """``lockstep``: the scale is latched (see :mod:`ssm_pacing`); ``on_joints(stamp)``:
+        called after each joint state message."""
         self.name = name
+        self._on_joints_hook = on_joints
         self.ros_name = ros_name = ros_robot_name(name)     # a copy's IRB140#0: IRB140_0
         self.governor = ArmGovernor(p)
         self.joints = None
@@ -77,11 +86,12 @@ class RobotChannel:
         self.root_pose = None        # (stamp, position, quaternion) of the root on TF
         self.root_velocity = (None, None)     # its (linear, angular), root frame; None: rest
         self.status = None
-        self._sub = rospy.Subscriber(JOINT_STATES_TOPIC.format(robot=ros_name), JointState,
-                                     self._on_joints, queue_size=1)
+        self.joints_subscriber = rospy.Subscriber(JOINT_STATES_TOPIC.format(robot=ros_name),
+                                                  JointState, self._on_joints, queue_size=1)
         ns = f"~{ros_name}/"
+        # in lock-step the simulator waits for it: written at once, by the cycle's thread
         self.command = rospy.Publisher(SPEED_SCALE_TOPIC.format(robot=ros_name), Float64,
-                                       queue_size=1)
+                                       queue_size=None if lockstep else 1, latch=lockstep)
         self.out = {k: rospy.Publisher(ns + k, Float64, queue_size=1)
                     for k in ("separation", "protective_separation", "scale",
                               "operator_uncertainty")}
@@ -90,19 +100,24 @@ class RobotChannel:
 
     def _on_joints(self, msg):
         self.joints = msg
+        if self._on_joints_hook is not None:
+            self._on_joints_hook(msg.header.stamp)
 
-    def link_speeds(self, links, local_points, tf_buffer):
-        """Speeds of the points, or None while the robot's description or its root's frame
-        on TF is unknown."""
+    def root_frame(self):
+        """The robot's root link (its TF frame), or None while its description is unknown."""
         if self.kinematics is None:
             description = rospy.get_param(ROBOT_DESCRIPTION_PARAM.format(robot=self.ros_name), None)
             if description is None:
                 return None
             self.kinematics = LinkSpeeds(description)
-        try:
-            t = tf_buffer.lookup_transform(WORLD_FRAME, self.kinematics.root, rospy.Time(0))
-        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
-                tf2_ros.ExtrapolationException):
+        return self.kinematics.root
+
+    def link_speeds(self, links, local_points, tf_buffer, stamp=None):
+        """Speeds of the points, or None while the robot's description or its root's frame
+        on TF is unknown; the root's frame at ``stamp`` (None: the latest)."""
+        root = self.root_frame()
+        t = lookup_root(tf_buffer, root, stamp) if root is not None else None
+        if t is None:
             return None
         p, r = t.transform.translation, t.transform.rotation
         pose = (t.header.stamp.to_sec(), np.array([p.x, p.y, p.z]),
@@ -133,15 +148,19 @@ class SsmSupervisor:
 
     def __init__(self):
         (self.p, robots, self.ground_truth, rate_hz, self.stale_s,
-         operator_topic) = read_parameters()
+         operator_topic, self.lockstep) = read_parameters()
         self.enabled = True
         self.log = ThrottledLog()
         self.operator = None
-        self.channels = {name: RobotChannel(name, self.p) for name in robots}
-        self.fixed_robots = bool(robots)
-        self.query = rospy.ServiceProxy(OPERATOR_SEPARATION_SERVICE, OperatorSeparation)
+        self._last_cycle = rospy.Time(0)
         self.tf_buffer = tf2_ros.Buffer(rospy.Duration(5.0))
         self._tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        pacer = StepPacer({}, self.cycle, self.tf_buffer) if self.lockstep else None
+        self.channels = {name: RobotChannel(name, self.p, self.lockstep,
+                                            pacer.on_joints if pacer else None)
+                         for name in robots}
+        self.fixed_robots = bool(robots)
+        self.query = rospy.ServiceProxy(OPERATOR_SEPARATION_SERVICE, OperatorSeparation)
         self.markers = rospy.Publisher("~markers", MarkerArray, queue_size=1)
         if not self.ground_truth:
             self._sub = rospy.Subscriber(operator_topic, PoseWithCovarianceStamped,
@@ -152,7 +171,12 @@ class SsmSupervisor:
                       "ground truth" if self.ground_truth else operator_topic,
                       self.p.reaction_time_s, self.p.stopping_time_s, self.p.intrusion_m,
                       self.p.robot_uncertainty_m, self.p.human_speed_m_s)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
+        if pacer is not None:             # one cycle per step, on that step's joint states
+            rospy.loginfo("ssm_supervisor: in lock-step with the simulator")
+            pacer.channels = self.channels
+            pacer.handshake()
+        else:
+            self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
 
     def _on_operator(self, msg):
         self.operator = msg
@@ -188,8 +212,14 @@ class SsmSupervisor:
             return None, f"separation query failed: {error}"
         return (answer, None) if answer.success else (None, answer.message)
 
-    def cycle(self, _event=None):
-        now = rospy.Time.now()
+    def cycle(self, _event=None, now=None):
+        """One cycle at ``now`` (lock-step: the step's stamp; None: the clock's time now);
+        never twice at one simulated time (a timer catching up after a jump of the clock
+        fires twice)."""
+        now = now if now is not None else rospy.Time.now()
+        if now <= self._last_cycle:
+            return
+        self._last_cycle = now
         request, z_d, fault = self.operator_input(now)
         answer = None
         if fault is None:
@@ -219,7 +249,7 @@ class SsmSupervisor:
         if fault is None:
             speeds = channel.link_speeds([answer.link[i] for i in rows],
                                          [_xyz(answer.link_point_local[i]) for i in rows],
-                                         self.tf_buffer)
+                                         self.tf_buffer, now if self.lockstep else None)
             if speeds is None or not np.isfinite(speeds).all():
                 fault = "link speeds unknown (robot_description, joint states or TF)"
         if fault is not None:

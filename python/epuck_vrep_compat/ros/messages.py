@@ -1,9 +1,17 @@
-"""Message builders more than one face uses: images, camera infos, rviz markers."""
+"""Message builders more than one face uses: stamps, images, camera infos, rviz markers."""
 import math
 
 import numpy as np
+import rospy
 from sensor_msgs.msg import CameraInfo, Image
 from visualization_msgs.msg import Marker
+
+
+def time_stamp(time_s: float) -> rospy.Time:
+    """The simulation time as a stamp, to the nearest nanosecond. ``rospy.Time.from_sec``
+    truncates: step 43 of 50 ms would be 2.149999999 s, and a client's 50 ms timer, due at
+    2.150000000 s, would miss that step and fire twice at the next."""
+    return rospy.Time(0, int(round(time_s * 1e9)))
 
 
 def fill_image(msg: Image, pixels) -> Image:

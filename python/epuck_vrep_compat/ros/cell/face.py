@@ -25,14 +25,15 @@ class CellFace(Face):
     Commands go to the model through the cell's command interface (``cell.commands``);
     ``static_tf``: the node's ``/tf_static``."""
 
-    def __init__(self, sim, static_tf, watchdog=(0.0, None)):
-        """``watchdog``: the speed scale's (timeout_s, robots or None for all), see
-        :class:`CellSafety`."""
+    def __init__(self, sim, static_tf, watchdog=(0.0, None), lockstep_timeout_s=0.0):
+        """``watchdog``: the speed scale's (timeout_s, robots or None for all);
+        ``lockstep_timeout_s`` > 0: lock-step with their supervisor; see :class:`CellSafety`."""
         self.sim = sim
         self.cell = sim.cell
         self._laser = LaserTopic(self.cell) if self.cell.laser is not None else None
         self._log = log = ThrottledLog()
-        self._safety = CellSafety(sim, log, watchdog)
+        self._safety = CellSafety(sim, log, watchdog, lockstep_timeout_s)
+        self.lockstep = self._safety.lockstep       # None: the simulator does not wait
         self._arms = {arm.spec.name: ArmTopics(arm, self.cell.commands, log)
                       for arm in self.cell.arms}
         self._transforms = CellTransforms(sim, static_tf)

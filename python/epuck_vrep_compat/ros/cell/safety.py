@@ -9,6 +9,8 @@
   simulator holds the robot because its speed scale went stale (the watchdog of
   ``cell/speed_watchdog.py``, on where a supervisor is configured: ``~speed_scale_timeout_s``,
   ``~speed_scale_robots``), with one warning when it falls and one line when it resumes.
+- lock-step with the supervisor (``~lockstep``, :mod:`lockstep`): the simulator waits for the
+  watched robots' scales after each step.
 - ``/vrep/operator_separation`` (``epuck_vrep_compat/OperatorSeparation``): the closest points
   between the operator's body and every link, from the simulation's collision world (the C++
   core), for the operator where he is or stood where a tracker puts him.
@@ -23,6 +25,8 @@ from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
 from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.topics import (
     OPERATOR_SEPARATION_SERVICE, SAFETY_STOP_TOPIC, SPEED_SCALE_TOPIC)
+from epuck_vrep_compat.ros.cell.lockstep import ScaleLockstep
+from epuck_vrep_compat.ros.messages import time_stamp
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationResponse
 
 
@@ -33,11 +37,18 @@ def _point(p):
 class CellSafety:
     """The speed-scale subscribers of the cell's robots and the separation service."""
 
-    def __init__(self, sim, log, watchdog=(0.0, None)):
+    def __init__(self, sim, log, watchdog=(0.0, None), lockstep_timeout_s=0.0):
         """``watchdog``: (timeout_s, robots or None for all), given to the cell's watchdog;
-        ValueError for a robot the cell does not have."""
+        ValueError for a robot the cell does not have. ``lockstep_timeout_s`` > 0: the
+        simulator waits for the same robots' scales after each step (:attr:`lockstep`)."""
         self.sim = sim
         self._log = log
+        self.lockstep = None
+        if lockstep_timeout_s > 0.0:
+            robots = watchdog[1]
+            self.lockstep = ScaleLockstep(
+                lambda: [n for n in sim.cell.arm_by_name if robots is None or n in robots],
+                lockstep_timeout_s)
         self._scales = {}
         self._stops = {}                        # robot -> its safety_stop publisher
         self._stopped = {}                      # robot -> the flag last published
@@ -93,6 +104,8 @@ class CellSafety:
             self._log.warn(f"{name}:speed_scale:range", "/%s/speed_scale: %s clamped to "
                            "[0, 1]", name, value)
         self.sim.cell.commands.speed_scale(name, value)
+        if self.lockstep is not None:
+            self.lockstep.answered(name)
 
     def _on_separation(self, req):
         with self.sim.lock:                     # a query of the collision world the step moves
@@ -102,7 +115,7 @@ class CellSafety:
                 self._log.warn("operator_separation", "%s: %s", OPERATOR_SEPARATION_SERVICE,
                                error)
                 return OperatorSeparationResponse(success=False, message=str(error))
-            stamp = rospy.Time.from_sec(self.sim.time_s)
+            stamp = time_stamp(self.sim.time_s)
         return OperatorSeparationResponse(
             success=True, stamp=stamp, robot=[s.robot for s in links],
             link=[s.link for s in links], distance=[s.distance_m for s in links],

@@ -39,6 +39,7 @@ class SimParams:
     speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
     model_dirs: list = field(default_factory=list)  # simRosLoadModel's folders besides models/
+    lockstep_timeout_s: float = 0.0     # > 0: wait for the supervisor's scales each step
     operator_walk_seed: Optional[int] = None    # the cell operator's walk, over the scene's
     operator_trace: Optional[str] = None        # his recorded trace (CSV), over the scene's
     step_s: float = STEP_S
@@ -62,7 +63,8 @@ class SimParams:
         return (f"world={self.world} n={self.n} robots={','.join(self.robot_names[:4])}"
                 f"{'..' if self.n > 4 else ''} profile={self.profile} seed={self.seed} "
                 f"noise={'on' if self.noise.enabled else 'off'} ({self.noise_source}) "
-                f"rtf={self.rtf} {self._operator()}"
+                f"rtf={self.rtf} lockstep_timeout_s={self.lockstep_timeout_s} "
+                f"{self._operator()}"
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
                 f"{self.camera.width}x{self.camera.height}@{self.camera.rate_hz}Hz")
@@ -88,6 +90,9 @@ def read_params(default_world: str) -> SimParams:
     p.model_dirs = _get("model_dirs", [], list,
                         lambda v: all(isinstance(d, str) and os.path.isdir(d) for d in v),
                         "must be a list of existing folders")
+    p.lockstep_timeout_s = _get("lockstep_timeout_s", 0.0, float,
+                                lambda v: math.isfinite(v) and v >= 0.0,
+                                "must be >= 0 s of wall time (0 = no lock-step)")
     p.operator_walk_seed, p.operator_trace = _read_operator()
     p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)

@@ -36,6 +36,7 @@ from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.ros.epuck.sensors import EpuckFace
 from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
+from epuck_vrep_compat.ros.messages import time_stamp
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, read_params, with_operator
 from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
@@ -97,11 +98,13 @@ class SimulatorNode:
             from epuck_vrep_compat.ros.cell.face import CellFace
             watchdog = (params.speed_scale_timeout_s, params.speed_scale_robots or None)
             try:
-                self.cell = CellFace(self.sim, self._tf_static, watchdog)
+                self.cell = CellFace(self.sim, self._tf_static, watchdog,
+                                     params.lockstep_timeout_s)
             except ValueError as e:
                 raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
             if self.sim.cell.operator is not None:
                 rospy.loginfo("operator: %s", self.sim.cell.operator.describe())
+        self._lockstep = self.cell.lockstep if self.cell is not None else None
         self.descriptions = DescriptionFace(profile, self.sim)
         self.faces = [f for f in (self.tf, self.epucks, self.extras, self.cell, self.vrep,
                                   self.cameras, self.leds, self.descriptions) if f is not None]
@@ -170,7 +173,7 @@ class SimulatorNode:
     # --- the loop ------------------------------------------------------------------------
     def _step_info(self) -> Step:
         """What the faces publish a step with: the simulation time, the batch, ``/tf``."""
-        stamp = rospy.Time.from_sec(self.sim.time_s)
+        stamp = time_stamp(self.sim.time_s)
         return Step(stamp.secs, stamp.nsecs, self._batch, self._tf_pub)
 
     def _step_and_publish(self) -> bool:
@@ -226,13 +229,18 @@ class SimulatorNode:
                 time.sleep(_IDLE_SLEEP_S)
                 deadline = time.monotonic()
                 continue
+            if self._lockstep is not None:
+                self._lockstep.wait()      # the supervisor's answer to the last step
             with self._lock:
+                if self._lockstep is not None:
+                    self._lockstep.stepped()
                 self._guarded(self._step_and_publish)
                 delay = 0.0
                 if period_s > 0.0:
                     deadline += period_s
                     delay = deadline - time.monotonic()
-                if delay > 0.0 or batch.due() or self.control.synchronous:
+                if (delay > 0.0 or batch.due() or self.control.synchronous
+                        or self._lockstep is not None):
                     batch.flush()
             if delay > 0.0:
                 time.sleep(max(0.0, deadline - time.monotonic()))

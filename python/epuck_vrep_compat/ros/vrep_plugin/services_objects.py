@@ -14,6 +14,7 @@ import rospy
 from vrep_common import srv
 
 from epuck_vrep_compat.compat import vrep_codes as vc
+from epuck_vrep_compat.ros.messages import time_stamp
 from epuck_vrep_compat.vrep.backend import VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
 
@@ -27,7 +28,7 @@ class Prepared(NamedTuple):
 
 def sim_stamp(backend):
     """Stamps of the /vrep services are simulation time, like /clock."""
-    return rospy.Time.from_sec(backend.sim.time_s)
+    return time_stamp(backend.sim.time_s)
 
 
 def frame_seq(backend) -> int:
