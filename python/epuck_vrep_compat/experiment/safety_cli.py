@@ -3,8 +3,8 @@ monitoring benchmark (``experiments/safety_ssm.yaml``, docs/safety_benchmark.md)
 experiment runner.
 
 ``run [--out DIR] [--walks N] [--cell-walks M] [--workers K] [--scheduler ADDR]
-[--no-coverage]``: every monitor x fault cell of the spec over its first M seeds (walks), our
-supervisor at its defaults without a fault (the spec's first cell) over N, the coverage maps
+[--no-coverage]``: our supervisor at its defaults without a fault (the spec's first cell) over
+the first N seeds (walks), then every monitor x fault cell over the first M, the coverage maps
 (``experiments/safety_ssm/coverage.yaml``) unless ``--no-coverage``, then ``DIR/report.md``.
 The runs' results are in ``DIR/walks`` and ``DIR/coverage`` (experiment folders: the same
 command resumes). ``report DIR`` rebuilds the report; ``coverage DIR`` makes only the maps.
@@ -23,7 +23,7 @@ from epuck_vrep_compat.experiment import coverage_maps, engine, plan, report_saf
 from epuck_vrep_compat.experiment import spec as spec_mod
 from epuck_vrep_compat.experiment.cli import write_report
 
-WALKS, CELL_WALKS = 200, 10
+WALKS, CELL_WALKS = 200, 5
 
 
 def shipped(name):
@@ -72,11 +72,12 @@ def walks(args):
     if len(seeds) < max(args.walks, args.cell_walks):
         first = seeds[0]
         seeds = list(range(first, first + max(args.walks, args.cell_walks)))
-    every = run_spec(dict(spec, seeds=seeds[:args.cell_walks]), os.path.join(args.out, "walks"),
-                     args)
     headline = dict(spec, seeds=seeds[:args.walks],
                     vary={"list": plan.cells(spec["vary"])[:1]})
-    return run_spec(headline, os.path.join(args.out, "walks"), args) and every
+    first = run_spec(headline, os.path.join(args.out, "walks"), args)
+    every = run_spec(dict(spec, seeds=seeds[:args.cell_walks]), os.path.join(args.out, "walks"),
+                     args)
+    return first and every
 
 
 def coverage(out_dir, args=None):
