@@ -41,8 +41,9 @@ def test_every_cell_one_walk_and_the_report(tmp_path):
 
 
 def test_coverage_maps_of_both_layouts(tmp_path):
-    """The lawnmower walk in the thesis's layout and the alternative: a PNG each, and the
-    tracker's error known over most of the floor."""
+    """The lawnmower walk in the thesis's layout and the alternative: a PNG each; the thesis's
+    ceiling cameras leave the floor's south strip unseen, where the tracker coasts off, and the
+    alternative (camera 0 moved over it) tracks him there: a smaller mean error."""
     code, stdout, stderr = h.run(["rosrun", "epuck_vrep_compat", "safety_bench", "coverage",
                                   str(tmp_path / "out")], tmp_path)
     assert code == 0, h.explain(code, stdout, stderr)
@@ -50,4 +51,7 @@ def test_coverage_maps_of_both_layouts(tmp_path):
         path = tmp_path / "out" / f"coverage_{layout}.png"
         assert path.is_file() and os.path.getsize(path) > 10000, stdout
     rows = h.record(tmp_path / "out" / "coverage")
-    assert all(0.0 < r["metric.tracker_error_mean_m"] < 0.5 for r in rows), h.describe(rows)
+    assert {r["status"] for r in rows} == {"ok"}, h.describe(rows)
+    error = {os.path.basename(r["param.sim.world"]).split("_")[0]: r["metric.tracker_error_mean_m"]
+             for r in rows}
+    assert 0.0 < error["alternative"] < error["thesis"], error
