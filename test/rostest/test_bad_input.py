@@ -116,6 +116,7 @@ class BadInput(unittest.TestCase):
              "'~operator_trace': operator trace '/nonexistent/walk.csv': cannot read it"),
             ([f"_world:={cell}", f"_operator_trace:={malformed}"], "row 1: the header must be"),
             (["_operator_walk_seed:=3"], "has no cell operator"),
+            ([f"_world:={cell}", "_lockstep_timeout_s:=-1.0"], "'~lockstep_timeout_s'"),
         ]
         try:
             for k, (args, expected) in enumerate(cases):
