@@ -710,6 +710,27 @@ class VrepFuzz(unittest.TestCase):
     def test_04_joint_setters(self):
         self.fuzz_batch(JOINT_SETTERS, "paused", ("scene",))
 
+    def test_04b_joints_set_far_then_driven_keep_stepping(self):
+        """Known defect (d), bench/fuzz_memory.py's third round on the cell: a youBot wheel (a
+        cyclic joint) set to 1e308 rad, then driven by velocity, turned the robot's physics
+        into NaN, and every later step failed, across a stop and a start too. Every joint at
+        1e308, then at 1 rad/s; the simulation steps after each, and after a stop and a start."""
+        joints = self.pools.handle_kinds["joints"]
+        self.assertTrue(joints, "no joint in the scene")
+        for service, field, value in (("simRosSetJointPosition", "position", 1e308),
+                                      ("simRosSetJointTargetVelocity", "targetVelocity", 1.0)):
+            self.enter("paused")
+            answers = {self.call_vrep(service, handle=h, **{field: value}).result
+                       for h in joints}
+            self.assertLessEqual(answers, {1, -1}, service)
+            self.call_vrep("simRosStartSimulation")
+            self.require_advancing(f"after {service}({value}) on every joint")
+            state = self.call_vrep("simRosGetJointState", handle=HANDLE_ALL).state
+            self.assertEqual(non_finite(state), [], f"joint states after {service}")
+        self.answers_one("simRosStopSimulation")
+        self.answers_one("simRosStartSimulation")
+        self.require_advancing("after the joints were driven, a stop and a start")
+
     def test_05_streams(self):
         # synchronous and never triggered: running (streams are refused while paused) and the
         # scene stands still; streams publish (and may end) while idle and after each service

@@ -14,6 +14,7 @@ import pybullet as pb
 from epuck_vrep_compat._core import GROUP_ALL
 from epuck_vrep_compat.cell.blob_signals import blob_signal_names, write_blob_signals
 from epuck_vrep_compat.cell.commands import CellCommands
+from epuck_vrep_compat.cell.devices.arm_recovery import checkpoint, recover_diverged
 from epuck_vrep_compat.cell.devices.arm_script import scripted_motion
 from epuck_vrep_compat.cell.devices.articulated import ArticulatedRobot
 from epuck_vrep_compat.cell.devices.cell_sensors import add_ceiling_camera, add_kinect, add_laser
@@ -102,6 +103,7 @@ class Cell(SimulationExtension):
     # --- stepping -----------------------------------------------------------------------------
     def step(self, dt: float):
         self.watchdog.check(self.arms, self.sim.time_s)
+        saved = [checkpoint(arm) for arm in self.arms]
         for arm in self.arms:
             arm.script_time += dt * arm.speed_scale     # a safety override slows the script
             if not arm.external:
@@ -112,11 +114,14 @@ class Cell(SimulationExtension):
             pb.stepSimulation(physicsClientId=self.client)
         for arm in self.arms:
             arm.read_state()
+        problem = recover_diverged(self.arms, saved, self.sim.time_s)
         if self.operator is not None:       # his pose: a function of simulated time only
             self.operator.seek((self.sim.frame - self._operator_frame0) * self.sim.step_s)
         self._sync_world()
         self._sense()
         write_blob_signals(self.sim.signals["float"], self.camera_specs, self.blobs)
+        if problem:                 # reported once the step is whole (arm_recovery)
+            raise ValueError(problem)
 
     def link_poses(self):
         """Every link frame in the world, stacked over the robots (as of the last step)."""

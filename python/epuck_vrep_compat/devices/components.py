@@ -32,8 +32,10 @@ class CameraSpec:
 
 
 def wrap_angle(a: float) -> float:
-    """To (-pi, pi], as V-REP reports cyclic revolute joints."""
-    return math.pi - math.fmod(math.pi - a, 2.0 * math.pi) if a <= -math.pi or a > math.pi else a
+    """To (-pi, pi], as V-REP reports cyclic revolute joints; exactly ``a`` when it is there
+    already (IEEE remainder, exact for any finite ``a``)."""
+    r = math.remainder(float(a), 2.0 * math.pi)
+    return math.pi if r <= -math.pi else r
 
 
 # A V-REP vision sensor looks along its z axis with y up; the core's camera looks along x with

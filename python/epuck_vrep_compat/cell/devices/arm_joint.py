@@ -32,6 +32,7 @@ class ArmJoint:
         self.range_span = -1.0 if self.cyclic else self.upper - self.lower
         # an explicit effort of 0 marks a passive joint (no motor), e.g. a mecanum roller
         self.max_force = limits.effort if math.isfinite(limits.effort) else DEFAULT_EFFORT
+        self.rated_force = self.max_force      # what a stop (reset) gives back
 
     def position(self) -> float:
         q = float(self._robot.q[self.index])
@@ -51,7 +52,12 @@ class ArmJoint:
         return value if self.cyclic else min(max(value, self.lower), self.upper)
 
     def set_target_position(self, value: float):
+        """A cyclic joint turns the shortest way to the angle (V-REP's), so its target stays
+        within half a turn of where it is, however large the value asked."""
         self._finite("target position", value)
+        if self.cyclic:
+            q = float(self._robot.q[self.index])
+            value = q + wrap_angle(value - q)
         self._robot.command(self.index, POSITION, self._clamped(value))
 
     def set_target_velocity(self, value: float) -> float:
@@ -62,8 +68,11 @@ class ArmJoint:
         return applied
 
     def set_position(self, value: float):
+        """A cyclic joint's angle is taken modulo a turn (as V-REP's): pybullet's solver turns
+        a joint standing at 1e308 rad into NaN for the whole robot once it moves."""
         self._finite("position", value)
-        self._robot.reset_joint(self.index, self._clamped(value))
+        self._robot.reset_joint(self.index, wrap_angle(value) if self.cyclic
+                                else self._clamped(value))
 
     def set_force(self, value: float):
         self._finite("force", value)

@@ -228,7 +228,8 @@ class ArticulatedRobot:
         self.link_position[0], self.link_quat[0] = self.base_pose()
 
     def reset(self):
-        """Joints to zero (inside their limits), base to its start pose, script back on."""
+        """Joints to zero (inside their limits) at rest with their URDF forces, base to its
+        start pose, script back on."""
         self.base_xy_yaw[:] = (self.spec.position_m[0], self.spec.position_m[1],
                                self.spec.yaw_rad)
         self.base_z = float(self.spec.position_m[2])
@@ -241,6 +242,8 @@ class ArticulatedRobot:
             pb.resetJointState(self.body, self.joint_bullet[k], home, 0.0,
                                physicsClientId=self.client)
             self.command(k, POSITION, home, external=False)
+            joint.max_force = joint.rated_force     # a client's simSetJointForce ends here
+        self.dirty = [True] * len(self.dirty)
         self.external = False
         self.read_state()
 
