@@ -74,6 +74,7 @@ def test_a_valid_spec_comes_back_with_its_defaults():
     assert (s["pace"]["mode"], s["pace"]["settle_s"], s["pace"]["wait_for"]) == \
         ("lockstep", 0.003, [])
     assert (s["pace"]["step_timeout_s"], s["pace"]["start_grace_s"]) == (1.0, 0.5)
+    assert s["pace"]["skip_gone"] is False      # a crashed node's steps stay late
     assert (s["network"], s["record"], s["bag_dir"], s["reference"]) == \
         ("loopback", [], None, {})
     assert re.fullmatch(r"[0-9a-f]{12}", s["hash"])
@@ -187,6 +188,8 @@ BAD = [
      "must be 'lockstep'"),
     ("pace wait_for relative", [("seeds: 3", "seeds: 3\npace:\n  wait_for: [cmd_vel]")],
      "pace.wait_for", "wait_for", "must be a list of absolute topic names"),
+    ("pace skip_gone", [("seeds: 3", "seeds: 3\npace:\n  skip_gone: maybe")], "pace.skip_gone",
+     "skip_gone", "must be true or false"),
     ("network", [("seeds: 3", "seeds: 3\nnetwork: wifi")], "network", "network",
      "must be 'loopback'"),
     ("reference", [("seeds: 3", "seeds: 3\nreference:\n  distance_driven_m: far")],

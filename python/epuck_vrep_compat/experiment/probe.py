@@ -5,8 +5,8 @@ for the simulator's ``/vrep/unpause`` service and for a publisher on every topic
 gives the user's nodes ``start_grace_s`` to subscribe, then starts the simulation: ``free``,
 at whatever real-time factor the simulator was given (the runner gives ``rtf:=0``), or
 ``lockstep``, V-REP's synchronous mode: one step, then wait until every ``wait_for`` topic
-has published once (or ``step_timeout_s`` of wall time passed: a late step, counted; a topic
-whose publishers have all gone is not waited for).
+has published once (or ``step_timeout_s`` of wall time passed: a late step, counted; with
+``skip_gone``, a topic whose publishers have all gone is not waited for).
 It records every message of the topics matching ``~topics`` (glob patterns) as numeric
 columns, and once the simulated time reaches ``~duration_s`` writes the recording (npz), the
 world's scene file and a status file beside it, then exits: the launch marks it required, so
@@ -143,8 +143,12 @@ class Probe:
                     self.lock.wait(min(left, GONE_POLL_S))
 
     def gone(self, topic):
-        """A wait_for topic whose every publisher has gone (a node killed mid-run, as the
-        safety benchmark's fault does) is not waited for: the run goes on at its pace."""
+        """With the pace's ``skip_gone``, a wait_for topic whose every publisher has gone (a
+        node killed mid-run, as the safety benchmark's fault does) is not waited for: the run
+        goes on at its pace. Off by default: a node that crashed keeps its steps late, which
+        leaves roslaunch the time to report its death, so that the run is a failed row."""
+        if not self.pace.get("skip_gone", False):
+            return False
         sub = self.by_topic.get(topic)
         return sub is not None and sub.get_num_connections() == 0
 

@@ -83,9 +83,10 @@ def pace(raw, problems):
     if not isinstance(raw, dict):
         problems.add(("pace",), "must be {mode: free|lockstep, wait_for: [topics], ...}")
         return {"mode": "lockstep", "wait_for": [], "step_timeout_s": 1.0,
-                "start_grace_s": 0.5, "settle_s": 0.003, "start_timeout_s": 60.0}
+                "start_grace_s": 0.5, "settle_s": 0.003, "start_timeout_s": 60.0,
+                "skip_gone": False}
     allowed = {"mode", "wait_for", "step_timeout_s", "start_grace_s", "settle_s",
-               "start_timeout_s"}
+               "start_timeout_s", "skip_gone"}
     for key in sorted(set(raw) - allowed, key=str):
         problems.add(("pace", key), f"unknown key; the keys are {', '.join(sorted(allowed))}")
     wait_for = raw.get("wait_for", [])
@@ -106,4 +107,8 @@ def pace(raw, problems):
             problems.add(("pace", key), "must be a non-negative number of seconds")
             value = default
         pace[key] = float(value)
+    pace["skip_gone"] = raw.get("skip_gone", False)
+    if not isinstance(pace["skip_gone"], bool):
+        problems.add(("pace", "skip_gone"), "must be true or false")
+        pace["skip_gone"] = False
     return pace
