@@ -32,6 +32,8 @@ import threading
 import time
 import xmlrpc.client
 
+from fuzz_memory import process_figures      # bench/: the same /proc reading
+
 FIELDS = ["wall_s", "sim_s", "rtf", "rss_mb", "threads", "descriptors", "messages",
           "messages_per_s"]
 WARM_UP_S = 60.0     # growth is measured after the first minute
@@ -42,18 +44,6 @@ def launch_command(scenario, world):
     if scenario == "swarm":
         return ["roslaunch", "epuck_vrep_compat", "epucks.launch", "n:=100", f"world:={world}"]
     return ["roslaunch", "epuck_vrep_compat", "merlin_safety.launch", "nodes:=true"]
-
-
-def process_sample(pid):
-    """(RSS MB, threads, open descriptors) of a running process."""
-    rss_mb = threads = None
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                rss_mb = int(line.split()[1]) / 1024.0
-            elif line.startswith("Threads:"):
-                threads = int(line.split()[1])
-    return rss_mb, threads, len(os.listdir(f"/proc/{pid}/fd"))
 
 
 class ProgressReader:
@@ -83,7 +73,7 @@ def sample(scenario, pid, clock, progress, seconds, period_s, path):
         while time.monotonic() - started < seconds:
             time.sleep(max(0.0, last_t + period_s - time.monotonic()))
             now, sim_s, messages = time.monotonic(), clock.sim_s, progress.messages
-            rss_mb, threads, descriptors = process_sample(pid)
+            rss_mb, threads, descriptors = process_figures(pid)
             row = {"wall_s": round(now - started, 2), "sim_s": round(sim_s, 3),
                    "rtf": round((sim_s - last_sim) / (now - last_t), 4),
                    "rss_mb": round(rss_mb, 2), "threads": threads,
