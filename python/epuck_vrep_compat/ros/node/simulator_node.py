@@ -112,6 +112,11 @@ class SimulatorNode:
         rospy.Service(RESET_SERVICE, Empty, self._on_reset)
         self.leds.publish(self._step_info())
 
+    @property
+    def batch(self):
+        """The ``StepBatch`` every face queues its messages in (the stop drains it)."""
+        return self._batch
+
     # --- services ------------------------------------------------------------------------
     def _on_step(self, req):
         if self.control.state != PAUSED:
