@@ -115,6 +115,16 @@ def simulator_topics(node="/vrep"):
             types)
 
 
+def master_knows(master, node="/vrep"):
+    """Whether the master (a ``rosgraph.Master``) still has ``node`` as a node: any
+    registration or parameter subscription of it left."""
+    try:
+        master.lookupNode(node)
+        return True
+    except rosgraph.MasterError:
+        return False
+
+
 def unpause_when_subscribed(subscribers, timeout_s=60.0):
     """Unpause a simulator started paused once every subscriber (or Collector) is connected,
     so they miss nothing from the first step on."""

@@ -27,7 +27,7 @@ import rostest
 from rosgraph_msgs.msg import Clock
 
 from raw_tcpros import RawSubscriber, pump, subscribe_all, tcpros_address
-from sim_test_helpers import PKG, simulator_topics, wait_for_message
+from sim_test_helpers import PKG, master_knows, simulator_topics, wait_for_message
 
 N = 100
 STEP_S = 0.05
@@ -60,16 +60,6 @@ def _wait_group_gone(pgid):
 def _held(master):
     """The topics and services the master lists /vrep for."""
     return [name for kind in master.getSystemState() for name, nodes in kind if "/vrep" in nodes]
-
-
-def _known(master):
-    """Whether the master still has /vrep as a node (any registration or parameter
-    subscription left)."""
-    try:
-        master.lookupNode("/vrep")
-        return True
-    except rosgraph.MasterError:
-        return False
 
 
 class Shutdown(unittest.TestCase):
@@ -153,10 +143,10 @@ class Shutdown(unittest.TestCase):
         # seconds of the simulator's exit: wait for it (liveness), then nothing may be left
         master = rosgraph.Master("/test_shutdown")
         deadline = time.monotonic() + LIVENESS_S
-        while time.monotonic() < deadline and (_held(master) or _known(master)):
+        while time.monotonic() < deadline and (_held(master) or master_knows(master)):
             time.sleep(0.1)
         self.assertEqual(_held(master), [])
-        self.assertFalse(_known(master), "the master still knows /vrep")
+        self.assertFalse(master_knows(master), "the master still knows /vrep")
 
     def test_4_every_subscriber_connection_ended(self):
         open_ = [t for t, s in self.subs.items() if not s.closed]

@@ -17,7 +17,7 @@ from std_msgs.msg import Float64
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.srv import OperatorSeparation
-from sim_test_helpers import PKG, Collector, RosoutGuard
+from sim_test_helpers import PKG, Collector, RosoutGuard, unpause_when_subscribed
 from test_ssm_supervisor import C_M
 
 SPEED_M_S = 0.2
@@ -58,7 +58,11 @@ class YoubotSafety(unittest.TestCase):
         cls.scale = Collector("/ssm_supervisor/youBot/scale", Float64)
         cls.base = BasePoses()
         rospy.wait_for_service("/vrep/operator_separation", timeout=60)
+        # started paused (youbot_safety.test): the trace's clock starts once all is connected,
+        # however long the start-up took on a loaded machine
+        unpause_when_subscribed([cls.s_p._sub, cls.scale._sub, cls.base._sub])
         cls.s_p.wait(1, timeout_s=60)
+        cls.scale.wait(1, timeout_s=60)
 
     def drive(self, vx, until_s):
         """Command vx until the simulated time; [(time, S_p, scale)] seen meanwhile."""
@@ -88,13 +92,18 @@ class YoubotSafety(unittest.TestCase):
         self.assertAlmostEqual(v_r, np.sqrt(2.0) * SPEED_M_S, delta=0.02)
         self.assertTrue(all(scale == 1.0 for t, _, scale in moving + resting if t > 2.0))
         self.assertAlmostEqual(self.base.speed(2.5, 3.5), SPEED_M_S, delta=0.01)
+        first = len(self.scale.messages)
         approach = self.drive(SPEED_M_S, 16.0)
         # the stop: from when on the scale stays 0 (a one-cycle fail-safe 0 is not it)
         stop = next((t for k, (t, _, _) in enumerate(approach)
                      if all(scale == 0.0 for _, _, scale in approach[k:])), None)
         self.assertIsNotNone(stop, "never stopped for good")
-        slowed = [t for t, _, scale in approach if 0.0 < scale < 1.0 and t < stop]
-        self.assertTrue(slowed, "never slowed before it stopped")
+        # every scale the supervisor sent meanwhile, not the 10 Hz samples above (which a
+        # loaded machine thins out, and the slow-down lasts a few cycles)
+        scales = [m.data for m in self.scale.messages[first:]]
+        while scales and scales[-1] == 0.0:
+            scales.pop()
+        self.assertTrue(any(0.0 < s < 1.0 for s in scales), "never slowed before it stopped")
         # held: the base does not move while stopped (the command still asks for 0.2 m/s)
         held = [t for t, _, _ in approach if t > stop + 0.5]
         self.assertGreater(len(held), 10)

@@ -1,12 +1,12 @@
 """The test-only fault hook (sim/fault_hook.py, issue 27) without a master: each fault fires as
 armed and once, a reset disarms, and the builder adds the hook only when its config asks."""
 import os
-import time
 
 import pytest
 
 from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.scene.scene_file import load_scene
+from epuck_vrep_compat.sim import fault_hook
 from epuck_vrep_compat.sim.fault_hook import FaultHook, InjectedFault
 
 WALL = os.path.join(os.path.dirname(__file__), "..", "worlds", "wall.yaml")
@@ -35,15 +35,22 @@ def test_a_step_raises_once_after_the_others_stepped():
     assert sim.frame == 3
 
 
-def test_a_step_blocks_once():
+@pytest.fixture
+def sleeps(monkeypatch):
+    """The wall-time sleeps the hook asks for, recorded instead of slept (a block is its
+    sleep: timing a step would be a wall-clock limit on a shared machine)."""
+    asked = []
+    monkeypatch.setattr(fault_hook.time, "sleep", asked.append)
+    return asked
+
+
+def test_a_step_blocks_once(sleeps):
     sim = simulation(True)
     sim.fault_hook.block_next_step(0.2)
-    t0 = time.monotonic()
     sim.step()
-    assert time.monotonic() - t0 >= 0.2
-    t0 = time.monotonic()
+    assert sleeps == [0.2] and sim.frame == 1
     sim.step()
-    assert time.monotonic() - t0 < 0.2
+    assert sleeps == [0.2] and sim.frame == 2
     with pytest.raises(ValueError):
         sim.fault_hook.block_next_step(0.0)
 
@@ -59,13 +66,12 @@ def test_the_publish_fault_holds_until_switched_off():
     hook.check_publish()
 
 
-def test_a_reset_disarms():
+def test_a_reset_disarms(sleeps):
     sim = simulation(True)
     sim.fault_hook.raise_in_next_step()
     sim.fault_hook.block_next_step(5.0)
     sim.fault_hook.set_publish_fault(True)
     sim.reset()
-    t0 = time.monotonic()
     sim.step()
-    assert time.monotonic() - t0 < 5.0
+    assert sleeps == []
     assert not sim.fault_hook.publish_fault

@@ -99,6 +99,15 @@ def test_a_timed_path_interpolates_on_the_shorter_arc_and_holds_its_ends():
     assert jump.at(1.0)[0] == 5.0          # two keyframes at one time: the later holds
 
 
+def test_a_timed_paths_heading_is_in_the_joints_range():
+    """(-pi, pi], as V-REP reports angles and the cell's cyclic joints do (one wrap for both):
+    a heading of -pi is pi, moving or held."""
+    path = TimedPath([0.0, 1.0], [0.0, 1.0], [0.0, 0.0], [-math.pi, -math.pi])
+    assert path.at(0.0)[2] == math.pi
+    assert path.at(0.5)[2] == math.pi
+    assert path.at(5.0)[2] == math.pi
+
+
 def _csv(tmp_path, text, name="walk.csv"):
     p = tmp_path / name
     p.write_text(text)

@@ -1,11 +1,16 @@
 """BulkRegistration: rospy's registrations leave the creating thread and reach the master in
 order, in multicall batches, with subscribers' answers handed back to rospy (no master: a fake
 registrar and a fake XML-RPC master)."""
+import errno
 import os
+import subprocess
+import tempfile
 import threading
 import time
 import types
 from xmlrpc.server import SimpleXMLRPCServer
+
+import pytest
 
 from rospy.impl.registration import Registration, get_topic_manager
 from rospy.impl.statistics import SubscriberStatisticsLogger
@@ -227,6 +232,17 @@ def test_a_handed_over_withdrawal_reaches_a_master_from_a_process_of_its_own(tmp
         assert [a[1] for a in got] == ["/t0", "/t1", "/t2"]
     finally:
         server.shutdown()
+
+
+def test_a_hand_over_that_cannot_start_its_process_leaves_no_file(tmp_path, monkeypatch):
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+
+    def no_process(*_args, **_kwargs):
+        raise OSError(errno.EMFILE, "Too many open files")
+    monkeypatch.setattr(subprocess, "Popen", no_process)
+    with pytest.raises(OSError):
+        withdraw.hand_off("http://127.0.0.1:1/", [("unregisterPublisher", ["/vrep", "/t", "u"])])
+    assert os.listdir(tmp_path) == []
 
 
 def test_closing_drops_what_was_not_sent_and_nothing_is_queued_after():

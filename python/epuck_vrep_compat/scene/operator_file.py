@@ -17,7 +17,8 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from epuck_vrep_compat.scene.validation import SceneError, as_list, color, number, numbers, only
+from epuck_vrep_compat.scene.validation import (SceneError, as_list, color, number, numbers, only,
+                                                positive)
 
 TRACE_COLUMNS = ("t", "x", "y", "heading")
 MOTIONS = ("waypoints_m", "walk", "trace")
@@ -82,22 +83,15 @@ def parse_operator(d, where: str, base_dir: str) -> OperatorSpec:
                          "walk.speed_m_s, a trace has its own")
     if "waypoints_m" in d:
         o.waypoints_m = _waypoints(d["waypoints_m"], f"{where}.waypoints_m")
-        o.speed_m_s = _positive(d.get("speed_m_s", o.speed_m_s), f"{where}.speed_m_s")
+        o.speed_m_s = positive(d.get("speed_m_s", o.speed_m_s), f"{where}.speed_m_s")
     elif "walk" in d:
         o.walk = parse_walk(d["walk"], f"{where}.walk")
     else:
         o.trace = trace_file(d["trace"], f"{where}.trace", base_dir)
     for key in ("body_radius_m", "body_height_m", "head_radius_m"):
-        setattr(o, key, _positive(d.get(key, getattr(o, key)), f"{where}.{key}"))
+        setattr(o, key, positive(d.get(key, getattr(o, key)), f"{where}.{key}"))
     o.color = color(d.get("color", o.color), f"{where}.color")
     return o
-
-
-def _positive(v, where) -> float:
-    x = number(v, where)
-    if x <= 0.0:
-        raise SceneError(f"{where} must be positive, got {v!r}")
-    return x
 
 
 def _waypoints(v, where):

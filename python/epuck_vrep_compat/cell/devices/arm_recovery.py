@@ -8,9 +8,6 @@ state before the step, at rest and holding its joints, finishes the step with it
 (the step raises: the node logs it and pauses; starting again steps on from a finite state).
 """
 import numpy as np
-import pybullet as pb
-
-from epuck_vrep_compat.cell.devices.arm_joint import POSITION
 
 
 def checkpoint(arm):
@@ -24,20 +21,6 @@ def diverged(arm) -> bool:
         arm.q, arm.qd, arm.base_xy_yaw, arm.twist, arm.link_position, arm.link_quat))
 
 
-def _restore(arm, saved):
-    q, base_xy_yaw, base_z = saved
-    arm.base_xy_yaw[:], arm.base_z = base_xy_yaw, base_z
-    arm.twist[:] = 0.0
-    arm.wheel_driven = False
-    arm.place_base()
-    for k, value in enumerate(q):
-        pb.resetJointState(arm.body, arm.joint_bullet[k], float(value), 0.0,
-                           physicsClientId=arm.client)
-        arm.command(k, POSITION, float(value), external=False)
-    arm.dirty = [True] * len(arm.dirty)
-    arm.read_state()
-
-
 def recover_diverged(arms, saved, time_s: float):
     """Each arm that diverged back to its checkpoint (``saved``, one per arm), or to its start
     if even that does not hold; the report of what happened, or None when nothing did."""
@@ -46,7 +29,8 @@ def recover_diverged(arms, saved, time_s: float):
         if not diverged(arm):
             continue
         names.append(arm.spec.name)
-        _restore(arm, before)
+        q, base_xy_yaw, base_z = before
+        arm.hold_at(base_xy_yaw, base_z, q)
         if diverged(arm):
             arm.reset()
     if not names:

@@ -230,21 +230,25 @@ class ArticulatedRobot:
     def reset(self):
         """Joints to zero (inside their limits) at rest with their URDF forces, base to its
         start pose, script back on."""
-        self.base_xy_yaw[:] = (self.spec.position_m[0], self.spec.position_m[1],
-                               self.spec.yaw_rad)
-        self.base_z = float(self.spec.position_m[2])
+        self.external = False
+        self.script_time = 0.0
+        for joint in self.joints:
+            joint.max_force = joint.rated_force     # a client's simSetJointForce ends here
+        self.hold_at((self.spec.position_m[0], self.spec.position_m[1], self.spec.yaw_rad),
+                     self.spec.position_m[2], [joint._clamped(0.0) for joint in self.joints])
+
+    def hold_at(self, base_xy_yaw, base_z: float, q):
+        """At rest where it is put: the base at (x, y, yaw) and ``base_z``, driven by neither
+        a twist nor its wheels, every joint at ``q`` and holding it; the state read back."""
+        self.base_xy_yaw[:], self.base_z = base_xy_yaw, float(base_z)
         self.place_base()
         self.twist[:] = 0.0
-        self.external = self.wheel_driven = False
-        self.script_time = 0.0
-        for k, joint in enumerate(self.joints):
-            home = joint._clamped(0.0)
-            pb.resetJointState(self.body, self.joint_bullet[k], home, 0.0,
+        self.wheel_driven = False
+        for k, value in enumerate(q):
+            pb.resetJointState(self.body, self.joint_bullet[k], float(value), 0.0,
                                physicsClientId=self.client)
-            self.command(k, POSITION, home, external=False)
-            joint.max_force = joint.rated_force     # a client's simSetJointForce ends here
+            self.command(k, POSITION, float(value), external=False)
         self.dirty = [True] * len(self.dirty)
-        self.external = False
         self.read_state()
 
     # --- collision primitives -----------------------------------------------------------------

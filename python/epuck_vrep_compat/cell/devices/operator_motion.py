@@ -11,10 +11,7 @@ import math
 
 import numpy as np
 
-
-def wrap_angle(a: float) -> float:
-    """``a`` in [-pi, pi]; exactly ``a`` when it is there already (IEEE remainder)."""
-    return math.remainder(float(a), 2.0 * math.pi)
+from epuck_vrep_compat.devices.components import wrap_angle
 
 
 class PingPongPath:

@@ -3,6 +3,7 @@ for thousands of connections, the node started with its parameters, the step loo
 SIGINT or SIGTERM, then the stop (``stop.py``), which ends the process."""
 import sys
 import time
+import traceback
 
 import rosgraph
 import rospy
@@ -14,7 +15,7 @@ from epuck_vrep_compat.ros.node.malloc_arenas import limit_malloc_arenas
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, read_params
 from epuck_vrep_compat.ros.node.simulator_node import SimulatorNode
-from epuck_vrep_compat.ros.node.stop import StopRequest, stop_node
+from epuck_vrep_compat.ros.node.stop import EXIT_FAILED, EXIT_STOPPED, StopRequest, stop_node
 from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
                                                           share_connection_poller,
                                                           widen_accept_queue)
@@ -52,6 +53,12 @@ def main():
                        rosgraph.get_master_uri(), e)
         return EXIT_MASTER_LOST
     rospy.loginfo("epuck_sim: %s", params.summary())
-    node.spin(stop.requested)
-    reason = f"{stop.signal_name or 'shutdown'} at t={node.sim.time_s:.3f} s"
-    stop_node(node._batch, node.sim.lock, registration, reason)     # ends the process
+    stop.hold_rospy_shutdown()   # from here every way out is stop_node's
+    status = EXIT_STOPPED
+    try:
+        node.spin(stop.requested)
+    except BaseException:  # noqa: BLE001 - the node still stops as it should, and says why
+        status = EXIT_FAILED
+        rospy.logfatal("epuck_sim: the step loop failed:\n%s", traceback.format_exc())
+    reason = f"{stop.signal_name or 'the step loop ended'} at t={node.sim.time_s:.3f} s"
+    stop_node(node.batch, node.sim.lock, registration, reason, status)     # ends the process

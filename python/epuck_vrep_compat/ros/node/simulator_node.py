@@ -2,7 +2,8 @@
 
 Faces: the e-puck topic profile (``EpuckFace``, ``TfFace``, ``CameraFace``, ``LedFace``) and
 V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled streams).
-Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused),
+Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused; in
+lock-step with a supervisor each after its answer to the last, as the loop's),
 ``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
 
 Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
@@ -13,6 +14,7 @@ simulation under its lock (``sim.lock``, which every step holds), between steps;
 :meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
 step.
 """
+import contextlib
 import time
 import traceback
 
@@ -112,6 +114,11 @@ class SimulatorNode:
         rospy.Service(RESET_SERVICE, Empty, self._on_reset)
         self.leds.publish(self._step_info())
 
+    @property
+    def batch(self):
+        """The ``StepBatch`` every face queues its messages in (the stop drains it)."""
+        return self._batch
+
     # --- services ------------------------------------------------------------------------
     def _on_step(self, req):
         if self.control.state != PAUSED:
@@ -120,18 +127,35 @@ class SimulatorNode:
         if req.steps > MAX_STEPS_PER_CALL:
             return StepSimulationResponse(False, f"at most {MAX_STEPS_PER_CALL} steps per call",
                                           self.sim.frame, self.sim.time_s)
-        with self._lock:
+        failure = None
+        # the steps are one piece under the lock, except in lock-step: the supervisor's answer
+        # to each step takes the lock, so the call lets go of it while it waits for the answer
+        with self._lock if self._lockstep is None else contextlib.nullcontext():
             for _ in range(req.steps):
-                if not self._step_and_publish():
-                    self._batch.flush()
-                    self._batch.settle()
-                    return StepSimulationResponse(False, "the simulation step failed (see the "
-                                                  "node's log)", self.sim.frame, self.sim.time_s)
-                if self._batch.due():
-                    self._batch.flush()
-            self._batch.flush()
-            self._batch.settle()     # the steps' messages are on their way before the answer
-        return StepSimulationResponse(True, "", self.sim.frame, self.sim.time_s)
+                failure = self._step_by_hand()
+                if failure:
+                    break
+            with self._lock:
+                self._batch.flush()
+                self._batch.settle()     # the steps' messages are on their way before the answer
+        return StepSimulationResponse(not failure, failure or "", self.sim.frame,
+                                      self.sim.time_s)
+
+    def _step_by_hand(self):
+        """One step of a ``~step`` call; in lock-step after the supervisor's answer to the last
+        one, and sent at once (the supervisor answers it). None, or why it failed."""
+        if self._lockstep is not None:
+            self._lockstep.wait()
+        with self._lock:
+            if self.control.state != PAUSED:      # started meanwhile: the loop steps now
+                return f"the simulation was {self.control.state} while stepping"
+            if self._lockstep is not None:
+                self._lockstep.stepped()
+            if not self._step_and_publish():
+                return "the simulation step failed (see the node's log)"
+            if self._lockstep is not None or self._batch.due():
+                self._batch.flush()
+        return None
 
     def _on_pause(self, _req):
         self.control.pause()

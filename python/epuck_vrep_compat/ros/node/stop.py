@@ -27,14 +27,21 @@ simulation's lock (no ``~step`` or ``/vrep`` call publishes meanwhile):
    interpreter's teardown, which frees every topic, connection and core object one by one (2.3 s
    at 100 robots with everything subscribed) for a process that is ending anyway.
 
-A second signal while it stops changes nothing. It relies on rospy's topic and service
-managers, unchanged since ROS Kinetic.
+A second signal while it stops changes nothing. rospy's own shutdown (``rosnode kill``, which
+calls the node's XML-RPC ``shutdown``; a registration the master refuses) is a request like a
+signal once the step loop runs (:meth:`StopRequest.hold_rospy_shutdown`): rospy's clean-up,
+which would unregister and close everything on its own thread while the stop does the same,
+never starts. However the loop or the stop ends, even by an exception, the process ends at once
+(:func:`end_process`): the interpreter's teardown would run rospy's shutdown after all, through
+its ``atexit`` hook. It relies on rospy's topic and service managers, unchanged since ROS
+Kinetic.
 """
 import logging
 import os
 import signal
 import sys
 import threading
+import traceback
 
 import rospy
 from rospy.impl.registration import get_service_manager, get_topic_manager
@@ -43,12 +50,15 @@ from epuck_vrep_compat.ros.transport.accept_queue import stop_accepting
 from epuck_vrep_compat.ros.transport.registration import withdraw_all
 
 EXIT_STOPPED = 0
+EXIT_FAILED = 1      # the step loop or the stop raised (logged with its traceback)
+SHUTDOWN_REQUEST = "shutdown request"      # rospy's own shutdown, named as a signal is
 DRAIN_S = 0.5        # wall seconds at most to hand the last steps to slow subscribers
 
 
 class StopRequest:
-    """SIGINT and SIGTERM set :attr:`signal_name`; the step loop polls :meth:`requested`.
-    Install after ``rospy.init_node(..., disable_signals=True)``."""
+    """SIGINT and SIGTERM (and, once held, rospy's own shutdown) set :attr:`signal_name`; the
+    step loop polls :meth:`requested`. Install after ``rospy.init_node(...,
+    disable_signals=True)``."""
 
     def __init__(self):
         self._event = threading.Event()
@@ -57,18 +67,38 @@ class StopRequest:
             signal.signal(sig, self._on_signal)
 
     def _on_signal(self, signum, _frame):
+        self._request(signal.Signals(signum).name)
+
+    def _request(self, name: str):
         if self.signal_name is None:
-            self.signal_name = signal.Signals(signum).name
+            self.signal_name = name
         self._event.set()
 
     def requested(self) -> bool:
         return self._event.is_set()
 
+    def hold_rospy_shutdown(self):
+        """From now on rospy's own shutdown requests the stop and goes no further: its first
+        hooks (``rospy.on_shutdown``'s, before its registration clean-up) hold the thread that
+        called it until :func:`stop_node` ends the process. Call right before the step loop,
+        after which every way out is :func:`stop_node` (else an ending interpreter would wait
+        for the held hook forever)."""
+        rospy.on_shutdown(self._on_rospy_shutdown)
 
-def stop_node(batch, lock, registration, reason: str):
-    """Everything after the last step (see the module's text); ends the process.
-    ``batch``: the node's ``StepBatch``, used under ``lock`` (the simulation's: a ``~step``
-    service call may still be sending); ``registration``: start-up's ``BulkRegistration``."""
+    def _on_rospy_shutdown(self):
+        self._request(SHUTDOWN_REQUEST)
+        threading.Event().wait()          # never set: the process ends under this thread
+
+
+def stop_node(batch, lock, registration, reason: str, status: int = EXIT_STOPPED):
+    """Everything after the last step (see the module's text); ends the process with
+    ``status`` (:data:`EXIT_FAILED` if the stop raises). ``batch``: the node's ``StepBatch``,
+    used under ``lock`` (the simulation's: a ``~step`` service call may still be sending);
+    ``registration``: start-up's ``BulkRegistration``."""
+    end_process(lambda: _stop(batch, lock, registration, reason), status)
+
+
+def _stop(batch, lock, registration, reason: str):
     stop_accepting()
     topics = get_topic_manager()
     topics.check_all = lambda: None          # rospy's connection checks: nothing to check now
@@ -83,7 +113,28 @@ def stop_node(batch, lock, registration, reason: str):
         logging.getLogger("rospy.internal").setLevel(logging.WARNING)
         topics.close_all()                   # every connection, once
         get_service_manager().unregister_all()
-        logging.shutdown()                   # rospy's log file and console handlers
+
+
+def end_process(work, status: int = EXIT_STOPPED, finish=None):
+    """Run ``work``, then end the process at once with ``status``, or :data:`EXIT_FAILED`
+    with a FATAL line and the traceback when ``work`` raised. ``finish(status)`` ends it
+    (default: flush the logs and ``os._exit``; tests pass their own)."""
+    try:
+        work()
+    except BaseException:  # noqa: BLE001 - the process ends either way, and says why
+        status = EXIT_FAILED
+        rospy.logfatal("epuck_sim: stopping failed, exiting with status %d:\n%s", status,
+                       traceback.format_exc())
+    finally:
+        (finish or _exit_now)(status)
+
+
+def _exit_now(status: int):
+    """Flush rospy's log file and console handlers and the standard streams, then end the
+    process without the interpreter's teardown."""
+    try:
+        logging.shutdown()
         sys.stdout.flush()
         sys.stderr.flush()
-        os._exit(EXIT_STOPPED)
+    finally:
+        os._exit(status)

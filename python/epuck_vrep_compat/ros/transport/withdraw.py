@@ -57,9 +57,13 @@ def hand_off(master_uri: str, calls) -> int:
     fd, path = tempfile.mkstemp(prefix="epuck_sim_withdraw_", suffix=".json")
     with os.fdopen(fd, "w") as f:
         json.dump({"master_uri": master_uri, "calls": calls}, f)
-    process = subprocess.Popen([sys.executable, "-m", __name__, path],
-                               stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        process = subprocess.Popen([sys.executable, "-m", __name__, path],
+                                   stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                   stderr=subprocess.DEVNULL, start_new_session=True)
+    except OSError:          # no process (a full descriptor table): nobody would remove it
+        os.unlink(path)
+        raise
     return process.pid
 
 
