@@ -38,15 +38,43 @@ def test_the_scale_keeps_s_p_within_the_separation_and_holds_after_a_stop():
     g = ArmGovernor(p)
     s_p0, band = static_separation(p, 0.0), 1.0 * (0.2 + 0.15)
     assert g.update(s_p0 + 0.5 * p.resume_margin_m, 0.0) == 0.0   # fail safe start: held ...
-    assert g.update(s_p0 + p.resume_margin_m + 0.5 * band, 0.0) == pytest.approx(
-        (p.resume_margin_m + 0.5 * band) / band)          # ... until clear of S_p0 + margin
-    for d in np.linspace(s_p0, s_p0 + band, 7):
+    d = s_p0 + p.resume_margin_m + 0.5 * band          # ... until clear of S_p0 + margin,
+    rising = [g.update(d, 0.0) for _ in range(9)]      # then from restart_scale, doubling
+    assert rising[:3] == pytest.approx([p.restart_scale, 2 * p.restart_scale,
+                                        4 * p.restart_scale])
+    assert rising[-1] == pytest.approx((p.resume_margin_m + 0.5 * band) / band)
+    for d in np.linspace(s_p0 + band, s_p0, 7):
         scale = g.update(d, 0.0)
         assert protective_separation(p, 0.0, scale * g.reference_speed_m_s) <= d + 1e-12
+    g.scale = 0.6
     assert g.update(s_p0 + 3 * band, 0.0) == 1.0
     assert g.update(s_p0 - 0.01, 0.0) == 0.0 and g.stopped
     assert g.update(s_p0 + 0.5 * p.resume_margin_m, 0.0) == 0.0     # hysteresis
     assert g.update(math.nan, 0.0) == 0.0
+
+
+def test_the_scale_keeps_s_p_within_the_separation_at_the_end_of_its_horizon():
+    """A scale in effect h after the separation was measured: the operator (v_h) and the
+    robot (s v_ref) approach meanwhile, and S_p must still hold then."""
+    p = SsmParameters()
+    g = ArmGovernor(p)
+    g.reference_speed_m_s = 1.5
+    h = 0.1
+    s_p0 = static_separation(p, 0.0)
+    for d in np.linspace(s_p0, s_p0 + 2.0, 41):
+        g.scale, g.stopped = 1.0, False                 # no rise limit, no hold
+        scale = g.update(d, 0.0, h)
+        v_r = scale * g.reference_speed_m_s
+        if scale > 0.0:                                 # a held robot needs no S_p
+            assert protective_separation(p, 0.0, v_r) <= (
+                d - (p.human_speed_m_s + v_r) * h + 1e-12)
+        g.scale, g.stopped = 1.0, False
+        assert scale <= g.update(d, 0.0) + 1e-12        # never faster than without a horizon
+    assert g.update(s_p0 + p.human_speed_m_s * h, 0.0, h) == 0.0 and g.stopped
+    assert g.update(s_p0 + p.human_speed_m_s * h + 0.5 * p.resume_margin_m, 0.0, h) == 0.0
+    band = 1.5 * (p.reaction_time_s + 0.5 * p.stopping_time_s + h)
+    g.scale, g.stopped = 1.0, False
+    assert g.update(s_p0 + p.human_speed_m_s * h + band, 0.0, h) == pytest.approx(1.0)
 
 
 def test_the_reference_speed_learns_the_fastest_speed_per_unit_scale():
@@ -56,13 +84,33 @@ def test_the_reference_speed_learns_the_fastest_speed_per_unit_scale():
     assert g.reference_speed_m_s == pytest.approx(0.8)
     g.learn_speed(0.1)
     assert g.reference_speed_m_s == pytest.approx(0.8)
-    g.scale = 0.1                                         # too slow to tell
+    g.scale = 0.01                          # the first step after a stop: the arm catches up
+    g.learn_speed(0.045)
+    assert g.reference_speed_m_s == pytest.approx(4.5)
+    g.scale = 0.0                                         # held: nothing to learn
     g.learn_speed(0.2)
+    assert g.reference_speed_m_s == pytest.approx(4.5)
+
+
+def test_a_learnt_speed_is_forgotten_after_its_memory():
+    g = ArmGovernor(SsmParameters(reference_speed_m_s=0.5, speed_memory_s=2.0))
+    g.scale = 0.02
+    g.learn_speed(0.09, now_s=1.0)                        # catching up: 4.5 per unit scale
+    g.scale = 0.5
+    g.learn_speed(0.4, now_s=2.0)                         # on its path: 0.8
+    assert g.reference_speed_m_s == pytest.approx(4.5)
+    g.learn_speed(0.1, now_s=3.0)
+    assert g.reference_speed_m_s == pytest.approx(4.5)
+    g.learn_speed(0.1, now_s=3.5)                         # 4.5 is 2.5 s old: gone
     assert g.reference_speed_m_s == pytest.approx(0.8)
+    g.scale = 0.0
+    g.learn_speed(0.0, now_s=10.0)                        # held long: back to the floor
+    assert g.reference_speed_m_s == pytest.approx(0.5)
 
 
 @pytest.mark.parametrize("field, value", [("reaction_time_s", -0.1), ("intrusion_m", math.nan),
-                                          ("reference_speed_m_s", 0.0)])
+                                          ("reference_speed_m_s", 0.0),
+                                          ("restart_scale", 0.0), ("restart_scale", 1.5)])
 def test_bad_parameters_are_named(field, value):
     with pytest.raises(ValueError, match=field):
         SsmParameters(**{field: value}).check()

@@ -7,9 +7,10 @@ where he is) goes to ``/vrep/operator_separation``, which answers every link's m
 to his body from the simulator's collision world; each link's speed at its closest point comes
 from ``/<robot>/joint_states`` and ``/<robot>/robot_description``, plus the base's own motion
 (a mobile base: the youBot's), from the root link's frame on TF between two cycles; the
-robot's separation is
-its links' minimum, S_p is taken at its fastest link's speed, and the speed scale goes to
-``/<robot>/speed_scale``, which the simulator applies to whatever moves the robot.
+robot's separation is its links' minimum, S_p is taken at its fastest link's speed, and the
+speed scale goes to ``/<robot>/speed_scale``, which the simulator applies to whatever moves
+the robot. The scale keeps S_p within the separation over its horizon: the estimate's age
+(0 with ground truth) plus one cycle (the last period), :meth:`ArmGovernor.update`.
 
 Published per robot under ``~<robot>/``: ``separation``, ``protective_separation``, ``scale``
 and ``operator_uncertainty`` (Z_d) (``std_msgs/Float64``), ``protective_stop`` (``std_msgs/Bool``), ``status``
@@ -152,6 +153,7 @@ class SsmSupervisor:
         self.enabled = True
         self.log = ThrottledLog()
         self.operator = None
+        self.cycle_s = 1.0 / rate_hz           # the period, until two cycles tell it
         self._last_cycle = rospy.Time(0)
         self.tf_buffer = tf2_ros.Buffer(rospy.Duration(5.0))
         self._tf_listener = tf2_ros.TransformListener(self.tf_buffer)
@@ -187,22 +189,24 @@ class SsmSupervisor:
         return SetBoolResponse(success=True, message="")
 
     def operator_input(self, now):
-        """(request, Z_d, None) or (None, None, why the operator's position is unusable)."""
+        """(request, Z_d, the position's age [s], None) or (None, None, None, why the
+        operator's position is unusable)."""
         if self.ground_truth:
-            return OperatorSeparationRequest(ground_truth=True), operator_uncertainty(self.p), None
+            return (OperatorSeparationRequest(ground_truth=True), operator_uncertainty(self.p),
+                    0.0, None)
         msg = self.operator
         if msg is None:
-            return None, None, "no operator estimate yet"
+            return None, None, None, "no operator estimate yet"
         age = (now - msg.header.stamp).to_sec()
         if age > self.stale_s:
-            return None, None, f"operator estimate stale ({age:.2f} s old)"
+            return None, None, None, f"operator estimate stale ({age:.2f} s old)"
         position, cov = msg.pose.pose.position, msg.pose.covariance
         xy_cov = np.array([[cov[0], cov[1]], [cov[6], cov[7]]])
         if not (math.isfinite(position.x) and math.isfinite(position.y)
                 and np.isfinite(xy_cov).all()):
-            return None, None, "operator estimate not finite"
+            return None, None, None, "operator estimate not finite"
         return (OperatorSeparationRequest(ground_truth=False, x=position.x, y=position.y),
-                operator_uncertainty(self.p, xy_cov), None)
+                operator_uncertainty(self.p, xy_cov), max(age, 0.0), None)
 
     def separation(self, request):
         """The simulator's answer, or (None, why)."""
@@ -219,8 +223,11 @@ class SsmSupervisor:
         now = now if now is not None else rospy.Time.now()
         if now <= self._last_cycle:
             return
+        if self._last_cycle > rospy.Time(0):
+            self.cycle_s = min((now - self._last_cycle).to_sec(), self.stale_s)
         self._last_cycle = now
-        request, z_d, fault = self.operator_input(now)
+        request, z_d, age, fault = self.operator_input(now)
+        horizon = None if fault is not None else age + self.cycle_s
         answer = None
         if fault is None:
             answer, fault = self.separation(request)
@@ -230,13 +237,14 @@ class SsmSupervisor:
         markers = MarkerArray()
         for index, channel in enumerate(self.channels.values()):
             try:
-                markers.markers += self.supervise(channel, index, now, answer, z_d, fault)
+                markers.markers += self.supervise(channel, index, now, answer, z_d, fault,
+                                                  horizon)
             except Exception as error:      # noqa: BLE001  a timer thread must not die: stop
                 self._fail(channel, f"supervisor error: {error!r}")
         self.markers.publish(markers)
 
-    def supervise(self, channel, index, now, answer, z_d, fault):
-        """One robot's cycle; returns its markers."""
+    def supervise(self, channel, index, now, answer, z_d, fault, horizon=0.0):
+        """One robot's cycle; returns its markers (``horizon``: :meth:`ArmGovernor.update`'s)."""
         rows = [] if answer is None else [i for i, r in enumerate(answer.robot)
                                           if r == channel.name]
         joints = channel.joints
@@ -257,12 +265,11 @@ class SsmSupervisor:
         distances = np.array([answer.distance[i] for i in rows])
         nearest = rows[int(np.argmin(distances))]
         fastest = float(speeds.max())
-        channel.governor.learn_speed(fastest)
+        channel.governor.learn_speed(fastest, now.to_sec())
         separation = float(distances.min())
-        scale = channel.governor.update(separation, z_d)
+        scale = channel.governor.update(separation, z_d, horizon)
         s_p = protective_separation(self.p, z_d, fastest)
-        status = "protective stop: separation %.2f m within S_p" % separation \
-            if scale <= 0.0 else "ok"
+        status = "ok" if scale > 0.0 else f"protective stop: separation {separation:.2f} m"
         channel.report(separation, s_p, scale if self.enabled else 1.0, status, z_d)
         return robot_markers(WORLD_FRAME, now, channel.name, index,
                              _xyz(answer.operator_point[nearest]),
