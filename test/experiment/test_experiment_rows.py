@@ -39,7 +39,7 @@ def test_rows_tables_report_and_no_marked_process_left(tmp_path, token):
     for rows in (h.csv_rows(out), h.parquet_rows(out)):
         assert len(rows) == 4, h.describe(rows)
         h.by_key(rows)
-        for column in ("run_key", "status", "seed", "attempts", "wall_s", "exit_code",
+        for column in ("run_key", "status", "seed", "attempts", "wall_s", "cpu_s", "exit_code",
                        "late_steps", "host", "error", SPEED, "metric.distance_driven_m",
                        "metric.collisions", "metric.coverage"):
             assert all(column in r for r in rows), f"no column {column}: {sorted(rows[0])}"
@@ -54,6 +54,8 @@ def test_rows_tables_report_and_no_marked_process_left(tmp_path, token):
         for r in rows:
             assert 0.0 <= float(r["metric.coverage"]) <= 1.0
             assert float(r["metric.collisions"]) >= 0
+            # the CPU time of the run's processes: the simulator and the nodes did work
+            assert float(r["cpu_s"]) > 0.0, h.describe([r])
     # the two tables are the same rows
     parquet = {r["run_key"]: r for r in h.parquet_rows(out)}
     for r in h.csv_rows(out):

@@ -15,7 +15,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 FIRST_COLUMNS = ("run_key", "status", "seed", "attempts", "wall_s", "startup_s", "stepping_s",
-                 "teardown_s", "exit_code", "late_steps", "host", "error")
+                 "teardown_s", "cpu_s", "exit_code", "late_steps", "host", "error")
 
 
 class ResultStore:

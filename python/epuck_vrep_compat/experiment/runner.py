@@ -4,8 +4,10 @@ The run lives in a temporary folder of its own (its launch file, ``ROS_HOME``, l
 recording) under a shepherd process (``shepherd.py``) that starts roslaunch on a free port and
 leaves nothing behind. The row carries the run's parameters, seed, metrics, wall time and
 exit status; a failure (the code crashed, the run hung past its time-out, nothing was
-published) is a row too, with the tail of its log. Only the row (and, when asked, a bag copied
-to ``bag_dir``) leaves the worker: no shared file system is needed.
+published) is a row too, with the tail of its log. ``cpu_s`` is the CPU time of all the run's
+processes (the shepherd's reaped children): unlike the wall time, it does not grow with the
+machine's load. Only the row (and, when asked, a bag copied to ``bag_dir``) leaves the
+worker: no shared file system is needed.
 """
 import json
 import math
@@ -99,7 +101,7 @@ def _judge(task, run_dir, outcome):
     died = [(name, int(code)) for name, code in DIED.findall(log)
             if not name.startswith("experiment_probe") and int(code) not in (0, -2, -15)]
     out = {"exit_code": outcome.get("exit_code"), "late_steps": status.get("late_steps"),
-           **phases(outcome.get("times", {}), status.get("times", {}))}
+           "cpu_s": outcome.get("cpu_s"), **phases(outcome.get("times", {}), status.get("times", {}))}
     if outcome.get("timed_out"):
         return {**out, "status": "failed", "error": f"timed out after {task.timeout_s:g} s of "
                 "wall time", "log_tail": _tail(run_dir)}

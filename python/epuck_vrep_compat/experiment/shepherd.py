@@ -7,7 +7,8 @@ launch file and waits for it to end (the probe ends it when the simulated time i
 wall-time limit, for SIGTERM/SIGINT, or for its parent (the worker) to die. Then it ends every
 process of the run (SIGINT to roslaunch first, so bags close; then SIGTERM and SIGKILL to what
 is left of its descendants and of the run's marked processes), reaps them, and writes
-``shepherd.json``: roslaunch's exit status, whether the time ran out, what had to be killed.
+``shepherd.json``: roslaunch's exit status, whether the time ran out, what had to be killed,
+the CPU time the run's processes used.
 """
 import ctypes
 import json
@@ -123,6 +124,11 @@ def main(argv=None):
     left, killed = end_everything(launch, job["env"][isolation.RUN_MARKER])
     out["times"]["clean"] = time.time()
     out["exit_code"] = launch.returncode
+    # every process of the run was reaped by roslaunch or by this subreaper, so their CPU time
+    # (user + system, all threads) is in this process's children's: the run's cost, whatever
+    # else the machine was doing
+    spent = os.times()
+    out["cpu_s"] = round(spent.children_user + spent.children_system, 3)
     out["left_at_end"], out["killed"] = len(left), len(killed)
     with open(os.path.join(run_dir, "shepherd.json"), "w") as f:
         json.dump(out, f)
