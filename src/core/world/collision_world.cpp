@@ -90,7 +90,12 @@ CollisionWorld::CollisionWorld()
       pair_cache_(std::make_unique<btNullPairCache>()),
       broadphase_(std::make_unique<btDbvtBroadphase>(pair_cache_.get())),
       world_(std::make_unique<btCollisionWorld>(dispatcher_.get(), broadphase_.get(),
-                                                configuration_.get())) {}
+                                                configuration_.get())) {
+  // Bullet would look for the pairs a moved box now overlaps, on every move, only to hand them
+  // to the null pair cache: deferred, they are never looked for (maintain_broadphase only
+  // rebalances the tree).
+  broadphase_->m_deferedcollide = true;
+}
 
 CollisionWorld::~CollisionWorld() {
   // The Bullet world reads its objects while it is destroyed, so detach them first.
@@ -251,7 +256,8 @@ std::vector<Contact> CollisionWorld::contacts(int handle) {
 void CollisionWorld::maintain_broadphase() {
   // Boxes still stale stay so: a step that asked the broadphase nothing leaves it as it was.
   if (!tree_changed_) return;
-  broadphase_->calculateOverlappingPairs(dispatcher_.get());
+  // What calculateOverlappingPairs would do but the pairs: one incremental pass over each tree.
+  for (btDbvt& tree : broadphase_->m_sets) tree.optimizeIncremental(1);
   tree_changed_ = false;
 }
 
