@@ -8,13 +8,23 @@
 /// while the closed form is exact to rounding and an order of magnitude cheaper, which matters at
 /// up to 264 rays per robot per step (8 cones of 33 rays).
 ///
-/// Not thread-safe: queries may run without the Python GIL, but nothing may change the world
-/// while they do.
+/// Moves reach Bullet's broadphase lazily: set_pose only records the new transform, and the
+/// moved objects' broadphase boxes are brought up to date, in the order they moved, by the
+/// first query that reads the broadphase (ray_cast, overlap_query, contacts). A step whose
+/// queries are answered from lists kept across steps (the swarm's) then updates no box at all.
+/// Queries answer the same either way: the tree only culls, the exact tests decide, and ties
+/// between equally close objects go to the lower handle.
+///
+/// Not thread-safe for changes: queries may run without the Python GIL and on several threads
+/// at once (the camera renderer's), and the one that finds boxes stale updates them under a
+/// lock; but nothing may change the world while they run.
 #pragma once
 
 #include <cstdint>
+#include <atomic>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <unordered_map>
 #include <vector>
@@ -139,7 +149,8 @@ class CollisionWorld {
   /// (see contact_mask), from Bullet's narrowphase, in handle order. Throws UnknownHandle.
   std::vector<Contact> contacts(int handle);
 
-  /// Lets Bullet rebalance its broadphase tree after many objects moved; call once per step.
+  /// Lets Bullet rebalance its broadphase tree after objects moved in it; call once per step.
+  /// Does nothing when no broadphase box changed since the last call.
   void maintain_broadphase();
 
   /// Counts the changes to the world's geometry: every add, remove and move (colours and the
@@ -151,6 +162,11 @@ class CollisionWorld {
  private:
   void add_body(std::unique_ptr<Body> body, const Pose& pose);
   Body& find(int handle) const;
+  // Records a move of @p body for the broadphase (see refresh_broadphase).
+  void mark_moved(Body& body);
+  // Updates the broadphase boxes of the bodies moved since the last refresh, in the order they
+  // moved; called by every query that reads the broadphase. Safe on several threads at once.
+  void refresh_broadphase() const;
 
   std::unique_ptr<btDefaultCollisionConfiguration> configuration_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
@@ -160,6 +176,13 @@ class CollisionWorld {
   std::unordered_map<int, std::unique_ptr<Body>> bodies_;
   Vec3 background_rgb_{0.55, 0.6, 0.65};
   std::uint64_t revision_ = 0;
+  // Bodies whose broadphase boxes are stale, in the order they first moved since the last
+  // refresh (Body::stale marks them), and whether there are any; a refresh runs under the lock.
+  mutable std::vector<Body*> stale_;
+  mutable std::atomic<bool> any_stale_{false};
+  mutable std::mutex refresh_mutex_;
+  // Whether some broadphase box changed since maintain_broadphase last ran.
+  mutable bool tree_changed_ = false;
 };
 
 }  // namespace evc

@@ -20,6 +20,7 @@ struct Body {
   Vec3 rgb = Vec3::Zero();
   std::unique_ptr<btCollisionShape> shape;
   std::unique_ptr<btCollisionObject> object;  // user pointer -> this Body
+  bool stale = false;  // moved since the broadphase last learnt its box (CollisionWorld)
 };
 
 // A body made ready for many rays from one origin (a sensor's): the origin in the body's frame,

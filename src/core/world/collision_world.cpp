@@ -90,7 +90,12 @@ CollisionWorld::CollisionWorld()
       pair_cache_(std::make_unique<btNullPairCache>()),
       broadphase_(std::make_unique<btDbvtBroadphase>(pair_cache_.get())),
       world_(std::make_unique<btCollisionWorld>(dispatcher_.get(), broadphase_.get(),
-                                                configuration_.get())) {}
+                                                configuration_.get())) {
+  // Bullet would look for the pairs a moved box now overlaps, on every move, only to hand them
+  // to the null pair cache: deferred, they are never looked for (maintain_broadphase only
+  // rebalances the tree).
+  broadphase_->m_deferedcollide = true;
+}
 
 CollisionWorld::~CollisionWorld() {
   // The Bullet world reads its objects while it is destroyed, so detach them first.
@@ -140,6 +145,7 @@ void CollisionWorld::add_body(std::unique_ptr<Body> body, const Pose& pose) {
   body->object->setWorldTransform(to_bt(valid_pose));
   body->object->setUserPointer(body.get());
   world_->addCollisionObject(body->object.get(), body->group, contact_mask(body->group));
+  tree_changed_ = true;
   bodies_.emplace(body->handle, std::move(body));
   ++revision_;
 }
@@ -153,8 +159,28 @@ Body& CollisionWorld::find(int handle) const {
 void CollisionWorld::set_pose(int handle, const Pose& pose) {
   Body& body = find(handle);
   body.object->setWorldTransform(to_bt(checked_pose(pose)));
-  world_->updateSingleAabb(body.object.get());
+  mark_moved(body);
   ++revision_;
+}
+
+void CollisionWorld::mark_moved(Body& body) {
+  if (body.stale) return;
+  body.stale = true;
+  stale_.push_back(&body);
+  any_stale_.store(true, std::memory_order_relaxed);
+}
+
+void CollisionWorld::refresh_broadphase() const {
+  if (!any_stale_.load(std::memory_order_acquire)) return;
+  const std::lock_guard<std::mutex> lock(refresh_mutex_);
+  if (!any_stale_.load(std::memory_order_relaxed)) return;  // another thread did it
+  for (Body* body : stale_) {
+    world_->updateSingleAabb(body->object.get());
+    body->stale = false;
+  }
+  stale_.clear();
+  tree_changed_ = true;
+  any_stale_.store(false, std::memory_order_release);
 }
 
 void CollisionWorld::set_poses(const std::vector<int>& handles, const std::vector<Pose>& poses) {
@@ -171,7 +197,7 @@ void CollisionWorld::set_poses(const std::vector<int>& handles, const std::vecto
   }
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     bodies[i]->object->setWorldTransform(to_bt(valid_poses[i]));
-    world_->updateSingleAabb(bodies[i]->object.get());
+    mark_moved(*bodies[i]);
   }
   ++revision_;
 }
@@ -182,7 +208,10 @@ Pose CollisionWorld::get_pose(int handle) const {
 
 void CollisionWorld::remove(int handle) {
   Body& body = find(handle);
+  if (body.stale) stale_.erase(std::find(stale_.begin(), stale_.end(), &body));
+  if (stale_.empty()) any_stale_.store(false, std::memory_order_relaxed);
   world_->removeCollisionObject(body.object.get());
+  tree_changed_ = true;
   bodies_.erase(handle);
   ++revision_;
 }
@@ -213,6 +242,7 @@ void CollisionWorld::set_background(const Vec3& rgb) {
 std::vector<Contact> CollisionWorld::contacts(int handle) {
   const Body& body = find(handle);
   std::vector<Contact> out;
+  refresh_broadphase();
   ContactCollector collector(body.object.get(), body.group, out);
   world_->contactTest(body.object.get(), collector);
   // Bullet reports in broadphase-tree order, which depends on the history of moves; handle
@@ -224,7 +254,11 @@ std::vector<Contact> CollisionWorld::contacts(int handle) {
 }
 
 void CollisionWorld::maintain_broadphase() {
-  broadphase_->calculateOverlappingPairs(dispatcher_.get());
+  // Boxes still stale stay so: a step that asked the broadphase nothing leaves it as it was.
+  if (!tree_changed_) return;
+  // What calculateOverlappingPairs would do but the pairs: one incremental pass over each tree.
+  for (btDbvt& tree : broadphase_->m_sets) tree.optimizeIncremental(1);
+  tree_changed_ = false;
 }
 
 }  // namespace evc

@@ -43,7 +43,9 @@ void test_body(const Body& body, const btVector3& local_origin, const btVector3&
   if (!intersect_primitive(body.primitive, local_origin, local_direction, limit, t, normal)) {
     return;
   }
-  if (t >= limit && best.handle >= 0) return;
+  // An exact tie goes to the lower handle, whatever order the objects come in (the tree's
+  // order depends on the history of moves; lists in handle order keep their first).
+  if (best.handle >= 0 && (t > limit || (t == limit && body.handle > best.handle))) return;
   best.distance_m = t;
   best.handle = body.handle;
   best.normal = to_eigen(transform.getBasis() * normal);
@@ -241,6 +243,7 @@ RayHit CollisionWorld::ray_cast(const Vec3& origin, const Vec3& direction_unit,
   }
   const btVector3 to = from + direction * max_distance_m;
   const btVector3 zero(0, 0, 0);
+  refresh_broadphase();
   RayHit best = no_hit(max_distance_m);
   RayCollector collector(from, direction, ignore_handle, mask, best);
   for (const btDbvt& tree : broadphase_->m_sets) {
@@ -270,6 +273,7 @@ RayCastBatch CollisionWorld::ray_cast(const Eigen::Ref<const RowMatrixXd>& origi
 void CollisionWorld::overlap_query(const Vec3& aabb_min, const Vec3& aabb_max, int mask,
                                    int ignore_handle, std::vector<const Body*>& out) const {
   const std::size_t first = out.size();
+  refresh_broadphase();
   BoxCollector collector(to_bt(aabb_min), to_bt(aabb_max), mask, ignore_handle, out);
   if (bodies_.size() <= kSmallWorld) {
     // A few objects: testing every object's box finds what the tree descent finds (a leaf's

@@ -1,10 +1,14 @@
 // CollisionWorld::ray_cast in C++ alone: the closed-form hits on a box (face, slanted, a
 // yawed corner) and a sphere give the analytic distances and normals; a ray that reaches
-// nothing reports no hit.
+// nothing reports no hit. Moves reach the broadphase lazily (at the next query): a moved or
+// teleported object is found where it is and not where it was, by rays, box queries and
+// contacts, also by queries on several threads at once; an exact tie goes to the lower handle.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <thread>
+#include <vector>
 
 #include "epuck_vrep_compat/world/collision_world.hpp"
 
@@ -71,6 +75,66 @@ TEST(RayCast, NothingWithinReachIsNoHit) {
     EXPECT_EQ(hit.handle, -1);
   }
   EXPECT_EQ(cast(world, Vec3::Zero(), Vec3::UnitX(), 10.0, 1).handle, -1);  // ignored
+}
+
+TEST(RayCast, AnExactTieGoesToTheLowerHandle) {
+  CollisionWorld world;
+  // Two boxes whose near faces lie in the same plane x = 0.3, added higher handle first, then
+  // moved about so that the broadphase tree's order is not the handle order.
+  world.add_box(9, Vec3(0.1, 0.1, 0.1), at(0.4, 0.05, 0.0), kGrey);
+  world.add_box(4, Vec3(0.1, 0.1, 0.1), at(0.4, -0.05, 0.0), kGrey);
+  for (int k = 0; k < 5; ++k) {
+    world.set_pose(4, at(3.0 + k, -0.05, 0.0));
+    world.maintain_broadphase();
+    EXPECT_EQ(cast(world, Vec3::Zero(), Vec3::UnitX()).handle, 9);
+    world.set_pose(4, at(0.4, -0.05, 0.0));
+    EXPECT_EQ(cast(world, Vec3::Zero(), Vec3::UnitX()).handle, 4);
+  }
+}
+
+TEST(LazyBroadphase, AMovedObjectIsFoundWhereItIsAndNotWhereItWas) {
+  CollisionWorld world;
+  world.add_sphere(1, 0.1, at(1.0, 0.0, 0.0), kGrey, evc::kGroupRobot);  // a robot touches
+  world.add_sphere(2, 0.1, at(0.0, 5.0, 0.0), kGrey);                     // static objects
+  // Several moves before any query, the last one a teleport far from the first place.
+  world.set_pose(1, at(1.5, 0.0, 0.0));
+  world.set_pose(1, at(40.0, 0.0, 0.0));
+  world.set_pose(1, at(0.0, 5.15, 0.0));  // overlaps sphere 2
+  EXPECT_EQ(cast(world, Vec3::Zero(), Vec3::UnitX()).handle, -1);
+  EXPECT_EQ(cast(world, Vec3(0.0, 4.0, 0.0), Vec3::UnitY()).handle, 2);
+  std::vector<const evc::Body*> found;
+  world.overlap_query(Vec3(-0.5, -0.5, -0.5), Vec3(2.0, 0.5, 0.5), evc::kGroupAll, -1, found);
+  EXPECT_TRUE(found.empty());
+  world.overlap_query(Vec3(-0.5, 5.2, -0.5), Vec3(0.5, 5.3, 0.5), evc::kGroupAll, -1, found);
+  ASSERT_EQ(found.size(), 1u);
+  const std::vector<evc::Contact> contacts = world.contacts(1);
+  ASSERT_EQ(contacts.size(), 1u);
+  EXPECT_EQ(contacts[0].other_handle, 2);
+  // A moved object removed before any query leaves nothing stale behind.
+  world.set_pose(2, at(9.0, 9.0, 0.0));
+  world.remove(2);
+  world.maintain_broadphase();
+  EXPECT_EQ(cast(world, Vec3(0.0, 4.0, 0.0), Vec3::UnitY()).handle, 1);
+  EXPECT_TRUE(world.contacts(1).empty());
+}
+
+TEST(LazyBroadphase, QueriesOnSeveralThreadsAfterMovesAgreeWithOne) {
+  CollisionWorld world;
+  for (int i = 0; i < 64; ++i) world.add_sphere(i, 0.05, at(0.2 * i, 1.0, 0.0), kGrey);
+  for (int i = 0; i < 64; ++i) world.set_pose(i, at(0.2 * i, 1.0 + 0.01 * i, 0.0));
+  // Every thread's first query finds the boxes stale; one of them updates them.
+  std::vector<std::vector<int>> seen(4, std::vector<int>(64, -2));
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < seen.size(); ++t) {
+    threads.emplace_back([&world, &seen, t] {
+      for (int i = 0; i < 64; ++i) seen[t][i] = cast(world, Vec3(0.2 * i, 0.0, 0.0),
+                                                     Vec3::UnitY()).handle;
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (const std::vector<int>& handles : seen) {
+    for (int i = 0; i < 64; ++i) EXPECT_EQ(handles[i], i);
+  }
 }
 
 }  // namespace
