@@ -144,6 +144,7 @@ def scene_objects(fuzz):
     import rospy
     import vrep_common.srv as srv
     rospy.init_node("test_vrep_fuzz")    # the suite's own node name: it calls init_node again
+    rospy.wait_for_service("/vrep/simRosGetObjectGroupData", timeout=120)  # after its pid
     proxy = rospy.ServiceProxy("/vrep/simRosGetObjectGroupData", srv.simRosGetObjectGroupData)
     try:
         return proxy(objectType=fuzz.ALL_OBJECTS, dataType=0).strings
