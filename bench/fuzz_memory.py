@@ -31,6 +31,20 @@ SETTLE_S = 3.0      # after a round, before its last sample: closed connections'
 FIELDS = ("scene", "round", "test", "calls", "wall_s", "rss_mb", "threads", "fds")
 
 
+# put first on the simulator's PYTHONPATH by --tracemalloc: Python's allocations traced in the
+# simulator (and only there), a snapshot dumped on each SIGUSR2 (the driver sends one per round)
+TRACEMALLOC_HOOK = """import os
+if b"epuck_sim" in open("/proc/self/cmdline", "rb").read():
+    import signal, tracemalloc
+    tracemalloc.start(1)
+    def _dump(signum, frame, _n=[0]):
+        tracemalloc.take_snapshot().dump(os.path.join(os.path.dirname(__file__),
+                                                      f"snapshot_{_n[0]:02d}.pickle"))
+        _n[0] += 1
+    signal.signal(signal.SIGUSR2, _dump)
+"""
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -92,6 +106,9 @@ def drive(args):
             state["test"] = test.id().split(".")[-1]
             super().startTest(test)
     sample()
+    objects = scene_objects(fuzz)
+    if args.tracemalloc:
+        os.kill(pid, signal.SIGUSR2)
     failed = 0
     for k in range(args.rounds):
         state["round"] = k + 1
@@ -103,15 +120,36 @@ def drive(args):
                                          resultclass=NamingResult).run(suite)
         failed += len(result.failures) + len(result.errors)
         for test, trace in result.failures + result.errors:
-            print(f"{args.scene} round {k + 1}: {test.id().split('.')[-1]} failed: "
+            name = test.id().split(".")[-1]
+            print(f"{args.scene} round {k + 1}: {name} failed: "
                   f"{trace.strip().splitlines()[-1][:300]}", flush=True)
+            with open(args.csv[:-len(".csv")] + f"_failures_{args.scene}.txt", "a") as f:
+                f.write(f"--- round {k + 1}: {name}\n{trace}\n")
         time.sleep(SETTLE_S)
         sample()
+        if args.tracemalloc:
+            os.kill(pid, signal.SIGUSR2)
+        now = scene_objects(fuzz)
         print(f"{args.scene} round {k + 1}: {state['calls']} calls, "
               f"{process_figures(pid)[0]:.1f} MB, {len(result.failures) + len(result.errors)} "
-              f"failed tests", flush=True)
+              f"failed tests; {len(now)} scene objects, gone since the start: "
+              f"{sorted(set(objects) - set(now)) or 'none'}", flush=True)
     out.close()
     return 1 if failed else 0
+
+
+def scene_objects(fuzz):
+    """The scene's object names (the suite removes some of them, so later rounds run on a
+    smaller scene)."""
+    import rospy
+    import vrep_common.srv as srv
+    rospy.init_node("test_vrep_fuzz")    # the suite's own node name: it calls init_node again
+    rospy.wait_for_service("/vrep/simRosGetObjectGroupData", timeout=120)  # after its pid
+    proxy = rospy.ServiceProxy("/vrep/simRosGetObjectGroupData", srv.simRosGetObjectGroupData)
+    try:
+        return proxy(objectType=fuzz.ALL_OBJECTS, dataType=0).strings
+    finally:
+        proxy.close()
 
 
 # --- the parent: a simulator per scene, the driver against it, the figures ---------------------
@@ -119,6 +157,12 @@ def run_scene(scene, args, csv_path):
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}",
                ROS_LOG_DIR=os.path.join(args.out, "logs", scene))
+    if args.tracemalloc:
+        hook = os.path.abspath(os.path.join(args.out, "tracemalloc", scene))
+        os.makedirs(hook, exist_ok=True)
+        with open(os.path.join(hook, "sitecustomize.py"), "w") as f:
+            f.write(TRACEMALLOC_HOOK)
+        env["PYTHONPATH"] = hook + os.pathsep + env.get("PYTHONPATH", "")
     launch = os.path.join(ROSTEST_DIR, SCENES[scene])
     # roslaunch starts the master of the port, in its own process group with the simulator
     sim = subprocess.Popen(["roslaunch", "-p", str(port), launch], env=env,
@@ -129,6 +173,9 @@ def run_scene(scene, args, csv_path):
                    "--rounds", str(args.rounds), "--every", str(args.every), "--csv", csv_path]
         if args.tests:
             command += ["--tests", *args.tests]
+        if args.tracemalloc:
+            command.append("--tracemalloc")
+            env = dict(env, PYTHONPATH=env["PYTHONPATH"].split(os.pathsep, 1)[1])
         return subprocess.call(command, env=env)
     finally:
         try:                                 # our own process group only
@@ -166,6 +213,26 @@ def settling(rows):
     return lines
 
 
+def traced_growth(folder, scene, top=12):
+    """What Python held more of after the last round than after the second (the first round
+    fills what is filled once), by file and line."""
+    import glob
+    import tracemalloc
+    snapshots = sorted(glob.glob(os.path.join(folder, "snapshot_*.pickle")))
+    if len(snapshots) < 3:
+        return [f"{scene}: fewer than 3 tracemalloc snapshots"]
+    loaded = [tracemalloc.Snapshot.load(p) for p in snapshots]
+    held = [sum(s.size for s in snap.statistics("filename")) / 2**20 for snap in loaded]
+    lines = [f"{scene}: Python's traced memory " + ", ".join(f"{mb:.1f}" for mb in held)
+             + " MB (start, then after each round); from round 2 to round "
+             f"{len(snapshots) - 1}, the largest growths:"]
+    first, last = loaded[2], loaded[-1]
+    for stat in last.compare_to(first, "lineno")[:top]:
+        lines.append(f"  {stat.size_diff / 1024:+.0f} KiB {stat.count_diff:+d} blocks "
+                     f"{stat.traceback[0].filename}:{stat.traceback[0].lineno}")
+    return lines
+
+
 def plot(rows, png_path):
     import matplotlib
     matplotlib.use("Agg")
@@ -195,6 +262,9 @@ def main():
     parser.add_argument("--out", default="results/fuzz_memory")
     parser.add_argument("--replot", action="store_true",
                         help="only plot and summarise the CSV already in --out")
+    parser.add_argument("--tracemalloc", action="store_true",
+                        help="trace Python's allocations in the simulator (slower): a snapshot "
+                        "per round, and what grew from the second round to the last by line")
     parser.add_argument("--drive", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--scene", help=argparse.SUPPRESS)
     parser.add_argument("--csv", help=argparse.SUPPRESS)
@@ -209,6 +279,9 @@ def main():
             csv.writer(f).writerow(FIELDS)
         for scene in args.scenes:
             status |= run_scene(scene, args, csv_path)
+    if args.tracemalloc:
+        for scene in args.scenes:
+            print("\n".join(traced_growth(os.path.join(args.out, "tracemalloc", scene), scene)))
     rows = read_rows(csv_path)
     plot(rows, os.path.join(args.out, "fuzz_memory.png"))
     print("\n".join(settling(rows)))

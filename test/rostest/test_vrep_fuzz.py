@@ -126,22 +126,26 @@ class Pools:
     """The scene's values that make generated requests reach real code paths: handles of every
     kind of object (and of none), names, constants; by kind for the HINTS."""
 
-    def __init__(self, handle_kinds, name_kinds, hinted, favoured=()):
+    def __init__(self, handle_kinds, name_kinds, hinted, favoured=(), excluded=frozenset()):
+        """``excluded``: handles no handle field may take, whatever strategy drew it (the
+        scene's pools, the extremes, the constants, any integer)."""
         self.handle_kinds = {kind: sorted(handles) for kind, handles in handle_kinds.items()}
         self.name_kinds = [list(k) for k in name_kinds if k]
         self.hinted = hinted
         self.favoured = favoured
+        self.excluded = frozenset(excluded)
         self.constants = sorted({v for values in hinted.values() for v in values
                                  if isinstance(v, int)} | set(range(20)))
 
     def without(self, handles):
         kinds = {kind: [h for h in k if h not in handles] for kind, k in self.handle_kinds.items()}
-        return Pools(kinds, self.name_kinds, self.hinted, self.favoured)
+        return Pools(kinds, self.name_kinds, self.hinted, self.favoured,
+                     self.excluded | set(handles))
 
     def for_service(self, name):
         """The handle kinds the service is about (FAVOURED) come up two times in three."""
         favoured = next((kinds for pattern, kinds in FAVOURED if re.search(pattern, name)), ())
-        return Pools(self.handle_kinds, self.name_kinds, self.hinted, favoured)
+        return Pools(self.handle_kinds, self.name_kinds, self.hinted, favoured, self.excluded)
 
     def handles(self):
         every = st.sampled_from([k for k in self.handle_kinds.values() if k]).flatmap(
@@ -179,6 +183,8 @@ def int_strategy(slot_type, pools, slot):
     if hi >= 2**31 - 1:
         options += [pools.handles().filter(lambda v: lo <= v <= hi),
                     st.sampled_from([v for v in pools.constants if lo <= v <= hi])]
+    if pools.excluded and "handle" in slot.lower():     # a handle field of a removal, say
+        return st.one_of(options).filter(lambda v: v not in pools.excluded)
     return st.one_of(options)
 
 

@@ -1,10 +1,20 @@
-"""What a long run cannot grow (issue 27, the README's "Bounds"): the throttled log's keys and
-the error log's entries. The stream tables' bound is in test_vrep_streams_logic.py."""
+"""What a long run cannot grow (issue 27, the README's "Bounds"): the throttled log's keys,
+the error log's entries and the signals a client sets. The stream tables' bound is in
+test_vrep_streams_logic.py."""
+import os
+
 import pytest
 
 from epuck_vrep_compat.ros.common import log
 from epuck_vrep_compat.ros.common.log import ThrottledLog
-from epuck_vrep_compat.vrep.backend import MAX_ERROR_CHARS, MAX_ERRORS, ErrorLog
+from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
+from epuck_vrep_compat.scene.scene_file import load_scene
+from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
+from epuck_vrep_compat.vrep import backend as vrep_backend
+from epuck_vrep_compat.vrep.backend import (
+    MAX_ERROR_CHARS, MAX_ERRORS, ErrorLog, VrepBackend, VrepError)
+
+WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")
 
 
 @pytest.fixture
@@ -64,3 +74,24 @@ def test_error_log_keeps_the_last_entries_each_cut():
     assert errors.take() == []
     errors.add("y" * MAX_ERROR_CHARS)   # at the bound: kept whole
     assert errors.take() == ["y" * MAX_ERROR_CHARS]
+
+
+def test_signals_set_through_vrep_are_at_most_max_signals_names_per_kind(monkeypatch):
+    monkeypatch.setattr(vrep_backend, "MAX_SIGNALS", 5)
+    sim = build_simulation(load_scene(os.path.join(WORLDS, "wall.yaml")),
+                           SimulationConfig(["ePuck0"], seed=1))
+    backend = VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=False)
+    for k in range(5):
+        backend.set_signal("int", f"s{k}", k)
+    with pytest.raises(VrepError, match="5 int signals exist"):
+        backend.set_signal("int", "one more", 1)
+    backend.set_signal("int", "s4", 44)            # a name that exists: still set
+    backend.set_signal("float", "f", 1.0)          # each kind has its own table
+    assert backend.signal("int", "s4") == 44 and len(backend.signals["int"]) == 5
+    backend.clear_signal("int", "s0")
+    backend.set_signal("int", "one more", 1)       # room again once one is cleared
+    assert vrep_backend.MAX_SIGNALS == 5 and backend.signal("int", "one more") == 1
+
+
+def test_the_signal_bound_is_ten_thousand():
+    assert vrep_backend.MAX_SIGNALS == 10_000

@@ -20,6 +20,7 @@ from epuck_vrep_compat.vrep.parameters import VrepParameters
 
 MAX_ERRORS = 50            # the plugin keeps the last 50
 MAX_ERROR_CHARS = 16384    # of one entry (a 10 kB name fits; a 1 MB string is cut)
+MAX_SIGNALS = 10_000       # distinct names per kind (integer, float, string) set through /vrep
 
 
 class ErrorLog:
@@ -122,7 +123,11 @@ class VrepBackend:
             raise VrepError("signal name is empty")
         if kind == "float" and not math.isfinite(value):
             raise VrepError(f"float signal '{name}' value {value} is not finite")
-        self.signals[kind][name] = value
+        table = self.signals[kind]
+        if name not in table and len(table) >= MAX_SIGNALS:
+            raise VrepError(f"{kind} signal '{name}' not set: {MAX_SIGNALS} {kind} signals "
+                            "exist (clear some first)")
+        table[name] = value
 
     def clear_signal(self, kind: str, name: str = None) -> int:
         """Clear one signal, or all of a kind (name None); returns how many were cleared."""
