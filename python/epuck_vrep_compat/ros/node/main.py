@@ -11,7 +11,8 @@ import rospy
 from epuck_vrep_compat.compat.topics import NODE, NODE_NAME
 from epuck_vrep_compat.paths import PackageNotFound, data_path
 from epuck_vrep_compat.ros.common.log import serve_get_loggers_safely
-from epuck_vrep_compat.ros.node.malloc_arenas import limit_malloc_arenas
+from epuck_vrep_compat.ros.node.malloc_arenas import (limit_malloc_arenas,
+                                                      map_large_buffers)
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
 from epuck_vrep_compat.ros.node.params import ParamError, read_params
 from epuck_vrep_compat.ros.node.simulator_node import SimulatorNode
@@ -25,6 +26,7 @@ from epuck_vrep_compat.scene.scene_file import SceneError
 
 def main():
     limit_malloc_arenas()        # first: before any thread of rospy's takes an arena
+    map_large_buffers()          # images and depth buffers given back when freed
     if not rosgraph.is_master_online():
         sys.stderr.write(f"epuck_sim: no ROS master at {rosgraph.get_master_uri()}; start "
                          "roscore, or start the simulator with roslaunch\n")
