@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from epuck_vrep_compat.nodes import tracker_geometry as geo
-from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter
+from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter, published_covariance
 
 
 def project(camera, point):
@@ -84,3 +84,11 @@ def test_the_kinect_ranges_him_along_its_ray_and_sees_occlusion():
     depth[:] = 1.0                                 # something 1 m in front of the sensor
     assert kinect.measurement(depth, position, quat, truth) is None
     assert kinect.measurement(depth, position, quat, np.array([-3.0, 0.0])) is None  # behind
+
+
+def test_the_published_covariance_adds_the_biases_and_the_lag_along_the_velocity():
+    p = np.diag([0.01, 0.02, 0.5, 0.5])
+    x = np.array([1.0, 2.0, 1.0, 0.0])
+    cov = published_covariance(p, x, bias_sigma_m=0.05, lag_s=0.1)
+    assert cov == pytest.approx(np.array([[0.01 + 0.0025 + 0.01, 0.0], [0.0, 0.02 + 0.0025]]))
+    assert published_covariance(p, x) == pytest.approx(p[:2, :2])

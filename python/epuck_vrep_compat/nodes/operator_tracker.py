@@ -20,7 +20,9 @@ ellipse). Parameters: ``~rate_hz`` (20), ``~camera0_matrix``, ``~camera1_matrix`
 thesis's), ``~view_angle_deg`` (80), ``~blob_height_m`` (0.6), ``~camera_pair_sigma_m``
 (0.08), ``~camera_single_sigma_m`` (0.35), ``~laser_sigma_m`` (0.06), ``~laser_gate_m`` (0.8),
 ``~fresh_s`` (0.15: older blobs are not used), ``~accel_density`` (4 m^2/s^3),
-``~kinect_fov_deg`` (57).
+``~kinect_fov_deg`` (57), ``~bias_sigma_m`` (0.05) and ``~lag_s`` (0.05): the published
+position covariance is the filter's plus the sensors' biases and the lag
+(:func:`tracker_filter.published_covariance`, measured in docs/cell.md).
 """
 import numpy as np
 import rospy
@@ -34,7 +36,7 @@ from epuck_vrep_compat.compat.frames import WORLD_FRAME
 from epuck_vrep_compat.compat.topics import (
     BLOB_TOPIC_FORMAT, CELL_LASER_TOPIC, KINECT_DEPTH_IMAGE_TOPIC, NODE_NAMESPACE)
 from epuck_vrep_compat.nodes import tracker_geometry as geo
-from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter
+from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter, published_covariance
 from epuck_vrep_compat.nodes.tracker_kinect import KinectRange
 from epuck_vrep_compat.nodes.tracker_markers import estimate_markers
 from epuck_vrep_compat.ros.common.log import ThrottledLog
@@ -46,6 +48,10 @@ LOST_AFTER = 10          # cycles of refused camera measurements before the trac
 
 def _positive(name, default):
     return read_typed(name, default, float, lambda v: v > 0, "must be > 0")
+
+
+def _non_negative(name, default):
+    return read_typed(name, default, float, lambda v: v >= 0, "must be >= 0")
 
 
 def _matrix(name, default):
@@ -67,6 +73,8 @@ class OperatorTracker:
         self.sigma = {k: _positive(f"{k}_sigma_m", d) for k, d in
                       (("camera_pair", 0.08), ("camera_single", 0.35), ("laser", 0.06))}
         self.laser_gate = _positive("laser_gate_m", 0.8)
+        self.bias_sigma = _non_negative("bias_sigma_m", 0.05)
+        self.lag_s = _non_negative("lag_s", 0.05)
         self.fresh_s = _positive("fresh_s", 0.15)
         rate_hz = _positive("rate_hz", 20.0)
         self.filter = OperatorFilter(_positive("accel_density", 4.0))
@@ -203,14 +211,15 @@ class OperatorTracker:
         twist.header = pose.header
         twist.twist.twist.linear.x, twist.twist.twist.linear.y = float(x[2]), float(x[3])
         pc, tc = np.zeros((6, 6)), np.zeros((6, 6))
-        pc[:2, :2], tc[:2, :2] = cov[:2, :2], cov[2:, 2:]
+        pc[:2, :2] = published_covariance(cov, x, self.bias_sigma, self.lag_s)
+        tc[:2, :2] = cov[2:, 2:]
         pc[2, 2] = pc[3, 3] = pc[4, 4] = pc[5, 5] = 1e6      # z and rotations: not estimated
         tc[2, 2] = tc[3, 3] = tc[4, 4] = tc[5, 5] = 1e6
         pose.pose.covariance, twist.twist.covariance = pc.ravel().tolist(), tc.ravel().tolist()
         self.pose_pub.publish(pose)
         self.twist_pub.publish(twist)
         self.marker_pub.publish(MarkerArray(markers=estimate_markers(
-            WORLD_FRAME, stamp, x, cov[:2, :2])))
+            WORLD_FRAME, stamp, x, pc[:2, :2])))
 
 
 def main():

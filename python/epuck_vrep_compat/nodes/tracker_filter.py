@@ -7,6 +7,13 @@ Prediction over dt with white-noise acceleration of spectral density q (m^2/s^3)
 
 Each sensor's position measurement z (2,) with covariance R updates it (H = [I 0]); a
 measurement whose Mahalanobis distance exceeds the gate is refused (another person, a robot).
+
+What the filter believes is not all of the error: the sensors' biases (a blob box's centre is
+not the body's, a laser cluster may be one leg, the Kinect's window sees his surface) do not
+average out as independent noise, and the estimate is read a step later than it is made.
+:func:`published_covariance` adds them to the position covariance the tracker reports (not to
+the filter's, whose gains stay those of the sensors' noise): b^2 I (the biases' size) and
+(tau v)(tau v)^T (the lag tau at the estimated velocity v, along it).
 """
 import numpy as np
 
@@ -59,3 +66,11 @@ class OperatorFilter:
         self.P = (np.eye(4) - k @ H) @ self.P
         self.P = 0.5 * (self.P + self.P.T)
         return True
+
+
+def published_covariance(p, x, bias_sigma_m=0.0, lag_s=0.0):
+    """The (2, 2) position covariance to report: the filter's P[:2, :2] plus the biases'
+    b^2 I and the lag's (tau v)(tau v)^T, v the estimated velocity x[2:]."""
+    v = np.asarray(x[2:4], dtype=float) * float(lag_s)
+    return (np.asarray(p, dtype=float)[:2, :2] + float(bias_sigma_m) ** 2 * np.eye(2)
+            + np.outer(v, v))
