@@ -71,7 +71,7 @@ def test_a_killed_worker_has_its_run_rescheduled(tmp_path, token):
 def test_ctrl_c_ends_the_experiment_and_the_same_command_resumes(tmp_path, token):
     """SIGINT to the CLI's process group (a terminal's Ctrl-C) once a run is under way: exit
     130, nothing left running, runs.jsonl intact; the same command again completes the
-    experiment, every key once."""
+    experiment, every key once, and leaves no run folder behind."""
     out = tmp_path / "out"
     args = h.command(h.fixture("four_runs.yaml"), out, "--workers", 2)
     cli = h.start(args, tmp_path)
@@ -103,6 +103,8 @@ def test_ctrl_c_ends_the_experiment_and_the_same_command_resumes(tmp_path, token
     assert len(rows) == 4, h.describe(rows)
     h.by_key(rows)
     assert rows[:len(before)] == before
+    # the interrupted runs' folders (their workers died with the CLI) are swept by the resume
+    assert not list((tmp_path / "tmp").glob("evc-*")), os.listdir(tmp_path / "tmp")
     assert {r["status"] for r in rows} == {"ok"}, h.describe(rows)
 
 
