@@ -39,7 +39,9 @@ def test_a_killed_worker_has_its_run_rescheduled(tmp_path, token):
     the CLI exits 0 with 4 ok rows, no key twice; the orphaned shepherd saw its worker gone
     and ended its run early (its shepherd.json says orphaned)."""
     out = tmp_path / "out"
-    cli = h.start(h.command(h.fixture("four_runs.yaml"), out, "--workers", 2), tmp_path)
+    # the runs' folders kept: the rescheduled run would otherwise sweep the dead one's
+    env = h.environment(tmp_path, EVC_KEEP_RUNS=1)
+    cli = h.start(h.command(h.fixture("four_runs.yaml"), out, "--workers", 2), tmp_path, env)
     try:
         shepherd = a_run_under_way(token, cli)
         table = h.processes()
@@ -57,7 +59,8 @@ def test_a_killed_worker_has_its_run_rescheduled(tmp_path, token):
     h.by_key(rows)
     assert {r["status"] for r in rows} == {"ok"}, h.describe(rows)
 
-    # the dead worker cannot remove its run's folder: the shepherd's outcome is still there
+    # the dead worker cannot remove its run's folder, nor (EVC_KEEP_RUNS) the next run: the
+    # shepherd's outcome is still there
     outcome_path = os.path.join(run_dir, "shepherd.json")
     h.wait_for(lambda: os.path.isfile(outcome_path), 60, outcome_path)
     with open(outcome_path) as f:
