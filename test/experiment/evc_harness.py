@@ -132,8 +132,8 @@ def shepherds(token):
 def environment(tmp_path, **extra):
     """The test's environment for the CLI: the sourced workspace's, /usr/bin first (another
     python3 may be first on PATH), ROS_HOME and TMPDIR in the test's folder (the runs' folders
-    go there: those of runs whose worker died or was interrupted are not removed by the
-    runner), no master of its own."""
+    go there: those of runs whose worker died or was interrupted are removed only by a later
+    run's sweep), no master of its own."""
     env = dict(os.environ)
     env["PATH"] = "/usr/bin:/bin:" + env.get("PATH", "")
     env["ROS_HOME"] = str(tmp_path / "ros_home")

@@ -39,7 +39,9 @@ def test_a_killed_worker_has_its_run_rescheduled(tmp_path, token):
     the CLI exits 0 with 4 ok rows, no key twice; the orphaned shepherd saw its worker gone
     and ended its run early (its shepherd.json says orphaned)."""
     out = tmp_path / "out"
-    cli = h.start(h.command(h.fixture("four_runs.yaml"), out, "--workers", 2), tmp_path)
+    # the runs' folders kept: the rescheduled run would otherwise sweep the dead one's
+    env = h.environment(tmp_path, EVC_KEEP_RUNS=1)
+    cli = h.start(h.command(h.fixture("four_runs.yaml"), out, "--workers", 2), tmp_path, env)
     try:
         shepherd = a_run_under_way(token, cli)
         table = h.processes()
@@ -57,7 +59,8 @@ def test_a_killed_worker_has_its_run_rescheduled(tmp_path, token):
     h.by_key(rows)
     assert {r["status"] for r in rows} == {"ok"}, h.describe(rows)
 
-    # the dead worker cannot remove its run's folder: the shepherd's outcome is still there
+    # the dead worker cannot remove its run's folder, nor (EVC_KEEP_RUNS) the next run: the
+    # shepherd's outcome is still there
     outcome_path = os.path.join(run_dir, "shepherd.json")
     h.wait_for(lambda: os.path.isfile(outcome_path), 60, outcome_path)
     with open(outcome_path) as f:
@@ -71,7 +74,7 @@ def test_a_killed_worker_has_its_run_rescheduled(tmp_path, token):
 def test_ctrl_c_ends_the_experiment_and_the_same_command_resumes(tmp_path, token):
     """SIGINT to the CLI's process group (a terminal's Ctrl-C) once a run is under way: exit
     130, nothing left running, runs.jsonl intact; the same command again completes the
-    experiment, every key once."""
+    experiment, every key once, and leaves no run folder behind."""
     out = tmp_path / "out"
     args = h.command(h.fixture("four_runs.yaml"), out, "--workers", 2)
     cli = h.start(args, tmp_path)
@@ -103,6 +106,8 @@ def test_ctrl_c_ends_the_experiment_and_the_same_command_resumes(tmp_path, token
     assert len(rows) == 4, h.describe(rows)
     h.by_key(rows)
     assert rows[:len(before)] == before
+    # the interrupted runs' folders (their workers died with the CLI) are swept by the resume
+    assert not list((tmp_path / "tmp").glob("evc-*")), os.listdir(tmp_path / "tmp")
     assert {r["status"] for r in rows} == {"ok"}, h.describe(rows)
 
 

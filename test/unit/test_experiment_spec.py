@@ -293,3 +293,32 @@ def test_the_hash_ignores_what_does_not_change_a_run(edit):
 @pytest.mark.parametrize("edit", OTHER_RESULTS.values(), ids=list(OTHER_RESULTS))
 def test_the_hash_follows_what_changes_a_run(edit):
     assert hash_of(edited(edit)) != hash_of(VALID_TEXT)
+
+
+def package_hash(folder):
+    """The valid spec's hash with ``folder`` as its one package_path folder."""
+    checked_spec = dict(checked(VALID_TEXT), package_path=[str(folder)])
+    return spec.spec_hash(checked_spec)
+
+
+def write_package(folder, script_text):
+    (folder / "bench" / "scripts").mkdir(parents=True)
+    (folder / "bench" / "scripts" / "bench_truth").write_text(script_text)
+    (folder / "bench" / "launch").mkdir()
+    (folder / "bench" / "launch" / "run.launch").write_text("<launch/>\n")
+
+
+def test_the_hash_follows_the_files_under_package_path(tmp_path):
+    write_package(tmp_path / "a", "print('v1')\n")
+    before = package_hash(tmp_path / "a")
+    write_package(tmp_path / "b", "print('v1')\n")                # the same files elsewhere
+    assert package_hash(tmp_path / "b") == before
+    (tmp_path / "b" / "bench" / "__pycache__").mkdir()           # not part of a run
+    (tmp_path / "b" / "bench" / "__pycache__" / "x.pyc").write_bytes(b"\0")
+    assert package_hash(tmp_path / "b") == before
+    (tmp_path / "b" / "bench" / "scripts" / "bench_truth").write_text("print('v2')\n")
+    assert package_hash(tmp_path / "b") != before                 # a changed script
+    (tmp_path / "b" / "bench" / "scripts" / "bench_truth").write_text("print('v1')\n")
+    (tmp_path / "b" / "bench" / "launch" / "run.launch").rename(
+        tmp_path / "b" / "bench" / "launch" / "other.launch")
+    assert package_hash(tmp_path / "b") != before                 # a renamed launch file

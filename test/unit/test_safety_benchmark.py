@@ -4,13 +4,14 @@ reaction per approach, the scale in effect (the watchdog's stop included), produ
 report's cells, worst walk and replay command; the coverage grid; the fault names."""
 import importlib.machinery
 import importlib.util
+import json
 import math
 import os
 
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.experiment import coverage_maps, report_safety
+from epuck_vrep_compat.experiment import coverage_maps, report_safety, safety_cli
 from epuck_vrep_compat.experiment import metrics_safety as ms
 from epuck_vrep_compat.experiment.metrics import RunContext, TopicSeries
 from epuck_vrep_compat.nodes.ssm_model import SsmParameters
@@ -37,6 +38,17 @@ def test_reaction_is_signed_steps_per_approach():
     scale = [1, 1, 1, 1, 0.5, 1, 1, 0.2, 0.0, 0.0, 1]
     # first approach: inside at 2, slowed at 4 -> 2; second: slowed at 7, inside at 8 -> -1
     assert ms.reactions(np.array(inside, bool), scale) == [2, -1]
+
+
+def test_a_scale_below_1_since_the_start_is_no_reaction():
+    # the handshake's latched 0 never released: no slow-down after a scale of 1, no reaction
+    # (it would read as -3: slowed at 0, inside at 3)
+    inside = [0, 0, 0, 1, 1, 0]
+    assert ms.reactions(np.array(inside, bool), [0.0] * 6) == []
+    # released, then slowed again for the breach: that slow-down counts
+    assert ms.reactions(np.array(inside, bool), [0.0, 1, 1, 1, 0.5, 0.5]) == [1]
+    # a pre-emptive slow-down after a 1 still counts, negative
+    assert ms.reactions(np.array(inside, bool), [0.0, 1, 0.5, 0.5, 0.5, 1]) == [-1]
 
 
 def walk(separation, speed, scale, error=None):
@@ -132,3 +144,11 @@ def test_fault_names():
     for bad in ("latency_9", "camera_exploded"):
         with pytest.raises(ValueError):
             fault.parse_fault(bad)
+
+
+def test_timing_sums_the_wall_time_of_every_invocation(tmp_path):
+    safety_cli.add_timing(str(tmp_path), 60.0, 200, 5)
+    safety_cli.add_timing(str(tmp_path), 30.0, 200, 5)         # resumed
+    with open(tmp_path / "timing.json") as f:
+        timing = json.load(f)
+    assert (timing["wall_s"], timing["invocations"]) == (90.0, 2)

@@ -16,15 +16,18 @@ import yaml
 
 CELL_M = 0.4                    # the lawnmower's rows are 0.4 m apart
 TRUTH, OPERATOR = "/safety_bench/truth", "/safety_bench/operator"
+# a visited cell counts as seen when the mean number of cameras seeing him there (over his
+# steps in it) is at least this many: e.g. one camera in half the steps, or two in a quarter
+SEEN_MEAN_CAMERAS = 0.5
 
 
 def read_bag(path):
     """(x, y, error, cameras) per step of a coverage run's bag (see the module's docstring)."""
     import rosbag                      # Debian's ROS; only this reader needs it
-    truth, where = {}, []
+    truth, where = {}, []               # matched by stamp, in whole nanoseconds
     with rosbag.Bag(path) as bag:
         for topic, msg, _stamp in bag.read_messages(topics=[TRUTH, OPERATOR]):
-            stamp = msg.header.stamp.to_sec()
+            stamp = msg.header.stamp.to_nsec()
             if topic == TRUTH:
                 truth[stamp] = msg.vector.z
             else:
@@ -55,12 +58,12 @@ def grid(x, y, error, cameras, size_m, cell_m=CELL_M):
 
 
 def summary(error_grid, camera_grid):
-    """The layout's figures: the fraction of visited cells seen by at least one camera, and
-    the mean and worst of the cells' mean errors."""
+    """The layout's figures: the fraction of visited cells seen (a mean of at least
+    ``SEEN_MEAN_CAMERAS`` cameras there), and the mean and worst of the cells' mean errors."""
     visited = np.isfinite(camera_grid)
     errors = error_grid[np.isfinite(error_grid)]
-    return {"seen_fraction": float(np.mean(camera_grid[visited] >= 0.5)) if visited.any()
-            else math.nan,
+    seen = camera_grid[visited] >= SEEN_MEAN_CAMERAS
+    return {"seen_fraction": float(np.mean(seen)) if visited.any() else math.nan,
             "error_mean_m": float(np.mean(errors)) if errors.size else math.nan,
             "error_max_m": float(np.max(errors)) if errors.size else math.nan}
 
@@ -104,7 +107,8 @@ def draw(path, scene_path, error_grid, camera_grid, title):
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
     axes[0].legend(loc="upper left", fontsize=7)
-    fig.suptitle(f"{title}: seen by a camera in {figures['seen_fraction']:.0%} of the floor, "
+    fig.suptitle(f"{title}: seen (>= {SEEN_MEAN_CAMERAS:g} cameras on average) in "
+                 f"{figures['seen_fraction']:.0%} of the floor, "
                  f"error mean {figures['error_mean_m']:.3f} m, worst cell "
                  f"{figures['error_max_m']:.2f} m")
     fig.tight_layout()

@@ -87,9 +87,17 @@ def sweep(name, value, grace_s=5.0):
 
 
 def _alive(pid):
+    return process_identity(pid) is not None
+
+
+def process_identity(pid):
+    """[pid, start time in clock ticks since boot] of a live process (a pid alone is reused),
+    or None."""
     try:
         with open(f"/proc/{pid}/stat", "rb") as f:
-            state = f.read().rsplit(b")", 1)[1].split()[0]
-        return state not in (b"Z", b"X")         # a zombie has ended; its parent reaps it
-    except (OSError, IndexError):
-        return False
+            fields = f.read().rsplit(b")", 1)[1].split()
+        if fields[0] in (b"Z", b"X"):             # a zombie has ended; its parent reaps it
+            return None
+        return [int(pid), int(fields[19])]        # field 22 of proc(5), counted after comm
+    except (OSError, IndexError, ValueError):
+        return None

@@ -19,8 +19,11 @@ watchdog). Units: metres, seconds of simulated time, steps of the recording.
 - reaction, per approach (as ``bench/cell_bench.py --safety``): from the first step the
   separation is below S_p(t) to the first step with the scale in effect below 1 (negative:
   the slow-down came first, as it should); an approach ends when the operator is outside
-  S_p and the scale is back to 1. A walk's reaction is its worst approach's (NaN: never
-  reduced, or never breached).
+  S_p and the scale is back to 1. Only a slow-down that starts after the scale was 1 counts:
+  a scale below 1 since the walk's start (the lock-step handshake's latched 0, a monitor that
+  never released the robot) is no reaction to this breach, and would read as a large negative,
+  i.e. good, one. A walk's reaction is its worst approach's (NaN: never reduced after being
+  1, or never breached).
 """
 import math
 
@@ -32,6 +35,9 @@ from epuck_vrep_compat.nodes.ssm_model import SsmParameters, protective_separati
 TRUTH_TOPIC = "/safety_bench/truth"
 MOVING_M_S = 0.005
 CONTACT_M = 0.001
+# stamps are whole nanoseconds; as float seconds a command's stamp and the step's time it
+# answers may differ by rounding, below a nanosecond: this much later still counts as "at"
+STAMP_TOLERANCE_S = 1e-9
 PARAM_PREFIX = "monitor."
 COLUMNS = ("min_separation_m", "violation_s", "violation_steps", "contacts", "touches",
            "reaction_steps", "reaction_s", "productivity", "cycle_time_ratio",
@@ -54,10 +60,10 @@ def scale_in_effect(t, scale_t=(), scale=(), stop_t=(), stop=()):
     t = np.asarray(t, dtype=float)
     out = np.ones_like(t)
     if len(scale_t):
-        i = np.searchsorted(np.asarray(scale_t), t + 1e-9, side="right") - 1
+        i = np.searchsorted(np.asarray(scale_t), t + STAMP_TOLERANCE_S, side="right") - 1
         out = np.where(i >= 0, np.asarray(scale, dtype=float)[np.maximum(i, 0)], 1.0)
     if len(stop_t):
-        i = np.searchsorted(np.asarray(stop_t), t + 1e-9, side="right") - 1
+        i = np.searchsorted(np.asarray(stop_t), t + STAMP_TOLERANCE_S, side="right") - 1
         stopped = np.where(i >= 0, np.asarray(stop, dtype=float)[np.maximum(i, 0)] > 0.5, False)
         out = np.where(stopped, 0.0, out)
     return np.clip(np.nan_to_num(out, nan=0.0), 0.0, 1.0)
@@ -65,13 +71,15 @@ def scale_in_effect(t, scale_t=(), scale=(), stop_t=(), stop=()):
 
 def reactions(inside, scale):
     """Per approach, the steps from the first step ``inside`` (below S_p) to the first step
-    with ``scale`` < 1 (negative: it came first); see the module's docstring."""
+    with ``scale`` < 1 that follows a scale of 1 (negative: it came first); see the module's
+    docstring."""
     out, crossed, slowed = [], None, None
-    measured = False
+    measured = was_full = False
     for k, (is_inside, s) in enumerate(zip(inside, scale)):
         slow = s < 1.0
-        if slowed is None and slow:
+        if slowed is None and slow and was_full:
             slowed = k
+        was_full = not slow
         if crossed is None and is_inside:
             crossed = k
         if not measured and crossed is not None and slowed is not None:

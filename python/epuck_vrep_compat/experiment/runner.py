@@ -16,12 +16,12 @@ import re
 import shutil
 import subprocess
 import sys
-import tempfile
 import time
 
 import yaml
 
-from epuck_vrep_compat.experiment import isolation, launch_files, metrics, spec as spec_mod
+from epuck_vrep_compat.experiment import isolation, launch_files, metrics, run_folders
+from epuck_vrep_compat.experiment import spec as spec_mod
 
 LOG_TAIL_CHARS = 2000
 # roslaunch colours the line: "\x1b[31m[NAME] process has died [pid P, exit code C, ...":
@@ -29,13 +29,13 @@ LOG_TAIL_CHARS = 2000
 DIED = re.compile(r"\[([^\[\]]+)\] process has died \[pid \d+, exit code (-?\d+)")
 REQUIRED_DIED = re.compile(r"REQUIRED process \[([^\[\]]+)\] has died")
 PORT_ATTEMPTS = 3
-KEEP_RUNS = "EVC_KEEP_RUNS"       # set (to anything) on the workers: run folders are kept
 
 
 def execute_run(task):
     """Runs ``task`` (a ``plan.RunTask``) to its end and returns its row (a flat dict)."""
     started = time.monotonic()
-    run_dir = tempfile.mkdtemp(prefix=f"evc-{task.experiment}-{task.key}-")
+    run_folders.sweep_stale()               # what interrupted runs on this machine left
+    run_dir = run_folders.make(task.experiment, task.key)
     row = {"run_key": task.key, "seed": task.seed, "attempts": task.attempt,
            **{f"param.{k}": v for k, v in task.params.items()}}
     try:
@@ -51,7 +51,7 @@ def execute_run(task):
             os.makedirs(task.bag_dir, exist_ok=True)
             shutil.copy(os.path.join(run_dir, "run.bag"),
                         os.path.join(task.bag_dir, f"{task.key}.bag"))
-        if not os.environ.get(KEEP_RUNS):
+        if not os.environ.get(run_folders.KEEP_RUNS):
             shutil.rmtree(run_dir, ignore_errors=True)
     return row
 
@@ -83,6 +83,7 @@ def _launch(task, run_dir):
                                      run_dir], start_new_session=True, env=env,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
+            run_folders.add_owner(run_dir, shepherd.pid)
             shepherd.wait()
         except BaseException:             # the task is cancelled: the shepherd ends the run
             shepherd.terminate()

@@ -113,9 +113,27 @@ def write(out_dir):
     rows = results.ResultStore(os.path.join(out_dir, "walks")).rows
     maps = sorted(os.path.join(out_dir, f) for f in os.listdir(out_dir)
                   if f.startswith("coverage_") and f.endswith(".png"))
-    timing = os.path.join(out_dir, "timing.json")
-    wall_s = json.load(open(timing))["wall_s"] if os.path.isfile(timing) else None
-    return report_safety.write(out_dir, rows, maps=maps, wall_s=wall_s)
+    return report_safety.write(out_dir, rows, maps=maps, wall_s=_timing(out_dir).get("wall_s"))
+
+
+def _timing(out_dir):
+    """``timing.json``: the wall time of every invocation that ran walks into ``out_dir``,
+    summed (a resumed benchmark's is the total, not its last part's), and their count."""
+    path = os.path.join(out_dir, "timing.json")
+    if not os.path.isfile(path):
+        return {}
+    with open(path) as f:
+        return json.load(f)
+
+
+def add_timing(out_dir, wall_s, walks, cell_walks):
+    """Adds an invocation's wall time to ``timing.json`` (see :func:`_timing`)."""
+    os.makedirs(out_dir, exist_ok=True)
+    before = _timing(out_dir)
+    with open(os.path.join(out_dir, "timing.json"), "w") as f:
+        json.dump({"wall_s": before.get("wall_s", 0.0) + wall_s,
+                   "invocations": before.get("invocations", 1 if before else 0) + 1,
+                   "walks": walks, "cell_walks": cell_walks}, f)
 
 
 def main(argv=None):
@@ -132,10 +150,7 @@ def main(argv=None):
         ok = walks(args)
         if not args.no_coverage:
             ok = coverage(args.out, args)[0] and ok
-        os.makedirs(args.out, exist_ok=True)
-        with open(os.path.join(args.out, "timing.json"), "w") as f:
-            json.dump({"wall_s": time.monotonic() - started, "walks": args.walks,
-                       "cell_walks": args.cell_walks}, f)
+        add_timing(args.out, time.monotonic() - started, args.walks, args.cell_walks)
         print(f"safety_bench: {write(args.out)}")
         return 0 if ok else 1
     except spec_mod.SpecError as e:

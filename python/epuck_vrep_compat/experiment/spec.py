@@ -99,15 +99,31 @@ def spec_hash(spec):
     """What makes a run's result: everything but the list of cells and seeds, the texts and
     the paths of the outputs (so adding seeds or cells keeps the runs already done). Files
     count by their contents, not where they are: a spec moved, or resumed on another machine
-    with the same files, keeps its runs."""
+    with the same files, keeps its runs; so does every file under each ``package_path``
+    folder (its scripts, nodes and included launch files), by path within it and contents."""
     keep = {k: v for k, v in spec.items()
             if k not in ("vary", "seeds", "description", "reference", "bag_dir", "base_dir",
                          "hash", "timeout_s", "package_path", "custom")}
+    keep["package_path"] = [folder_digest(folder) for folder in spec["package_path"]]
     keep["simulator"] = _portable(spec["simulator"])
     keep["code"] = [_portable(c) for c in spec["code"]]
     keep["custom"] = {name: src.get("source", src.get("module")) + ":" + src["function"]
                       for name, src in spec["custom"].items()}
     return hashlib.sha1(json.dumps(keep, sort_keys=True, default=str).encode()).hexdigest()[:12]
+
+
+def folder_digest(folder):
+    """SHA-1 of the sorted relative paths and contents of every file under ``folder``
+    (hidden folders, ``__pycache__`` and ``*.pyc``, which do not change a run, left out)."""
+    digest = hashlib.sha1()
+    for root, dirs, files in os.walk(folder):
+        dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d != "__pycache__")
+        for name in sorted(f for f in files if not f.endswith(".pyc")):
+            path = os.path.join(root, name)
+            digest.update(os.path.relpath(path, folder).replace(os.sep, "/").encode() + b"\0")
+            with open(path, "rb") as f:
+                digest.update(hashlib.sha1(f.read()).digest())
+    return digest.hexdigest()
 
 
 def _portable(entry):

@@ -254,6 +254,8 @@ class SimulatorNode:
         later than that restarts the schedule: the time is dropped, with a warning.
         """
         period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
+        if self._lockstep is not None:      # a stop ends its waits (this loop's, ~step's)
+            self._lockstep.stop_requested = stop_requested
         deadline = time.monotonic()
         batch = self._batch
         while not rospy.is_shutdown() and not stop_requested():
