@@ -140,3 +140,13 @@ def test_world_seeds_option_gives_worlds_the_same_arena():
     assert np.array_equal(obs[0], obs[2])
     with pytest.raises(ValueError):
         envs.reset(options={"world_seeds": [1]})
+
+
+def test_vector_step_refuses_actions_of_another_shape():
+    envs = gym.make_vec("EpuckObstacleAvoidance-v0", num_envs=3, noise="ideal")
+    envs.reset(seed=1)
+    for bad in (np.zeros(6), np.zeros((2, 3)), np.zeros((3, 2, 1))):
+        with pytest.raises(ValueError, match=r"actions must be \(3, 2\)"):
+            envs.step(bad)
+    obs, *_ = envs.step(np.zeros((3, 2)))
+    assert obs.shape[0] == 3

@@ -43,6 +43,9 @@ class EpuckVectorEnv(VectorEnv):
         return self.worlds.agent_obs()[:, 0], self._infos()
 
     def step(self, actions):
+        actions = np.asarray(actions, dtype=float)
+        if actions.shape != (self.num_envs, 2):      # a flat or transposed batch would reshape
+            raise ValueError(f"actions must be ({self.num_envs}, 2), got {actions.shape}")
         rewards, terminated, truncated = self.episodes.step(actions)
         return self.worlds.agent_obs()[:, 0], rewards[:, 0], terminated, truncated, self._infos()
 
