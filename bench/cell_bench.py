@@ -23,7 +23,6 @@ import json
 import os
 import platform
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -33,15 +32,9 @@ import rospy
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Float64
 
-from run_benchmark import end_group
+from run_benchmark import end_group, free_port
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def peak_rss_mb(pid):

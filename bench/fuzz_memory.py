@@ -18,11 +18,12 @@ import argparse
 import csv
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
 import unittest
+
+from run_benchmark import free_port     # bench/: one free port finder
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROSTEST_DIR = os.path.join(HERE, "..", "test", "rostest")
@@ -43,12 +44,6 @@ if b"epuck_sim" in open("/proc/self/cmdline", "rb").read():
         _n[0] += 1
     signal.signal(signal.SIGUSR2, _dump)
 """
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def process_figures(pid):

@@ -14,11 +14,12 @@ Needs a built workspace, sourced, and ``bench/build.sh`` run.
 import argparse
 import json
 import os
-import socket
 import subprocess
 import sys
 import tempfile
 import time
+
+from run_benchmark import free_port     # bench/: one free port finder
 
 import rospy
 
@@ -31,12 +32,6 @@ rospy.Service("/bare/simRosGetObjectHandle", simRosGetObjectHandle,
               lambda req: simRosGetObjectHandleResponse(42))
 rospy.spin()
 """
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def mean_round_trip_us(name, calls):
