@@ -58,15 +58,18 @@ def scale_in_effect(t, scale_t=(), scale=(), stop_t=(), stop=()):
     """The speed scale the robot had at each instant of ``t``: the last command at or before
     it (1 before any), 0 while the last safety_stop at or before it is true."""
     t = np.asarray(t, dtype=float)
-    out = np.ones_like(t)
-    if len(scale_t):
-        i = np.searchsorted(np.asarray(scale_t), t + STAMP_TOLERANCE_S, side="right") - 1
-        out = np.where(i >= 0, np.asarray(scale, dtype=float)[np.maximum(i, 0)], 1.0)
-    if len(stop_t):
-        i = np.searchsorted(np.asarray(stop_t), t + STAMP_TOLERANCE_S, side="right") - 1
-        stopped = np.where(i >= 0, np.asarray(stop, dtype=float)[np.maximum(i, 0)] > 0.5, False)
-        out = np.where(stopped, 0.0, out)
+    out = _last_at(t, scale_t, scale, 1.0)
+    out = np.where(_last_at(t, stop_t, stop, 0.0) > 0.5, 0.0, out)
     return np.clip(np.nan_to_num(out, nan=0.0), 0.0, 1.0)
+
+
+def _last_at(t, times, values, before):
+    """At each instant of ``t``, the last of ``values`` stamped at or before it (``times``
+    sorted), ``before`` where none is."""
+    if not len(times):
+        return np.full_like(t, before)
+    i = np.searchsorted(np.asarray(times), t + STAMP_TOLERANCE_S, side="right") - 1
+    return np.where(i >= 0, np.asarray(values, dtype=float)[np.maximum(i, 0)], before)
 
 
 def reactions(inside, scale):
