@@ -29,7 +29,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROSTEST_DIR = os.path.join(HERE, "..", "test", "rostest")
 SCENES = {"epucks": "vrep_fuzz.test", "cell": "vrep_fuzz_cell.test"}
 SETTLE_S = 3.0      # after a round, before its last sample: closed connections' threads end
-FIELDS = ("scene", "round", "test", "calls", "wall_s", "rss_mb", "threads", "fds")
+FIELDS = ("scene", "round", "test", "calls", "wall_s", "rss_mb", "threads", "fds", "service")
 
 
 # put first on the simulator's PYTHONPATH by --tracemalloc: Python's allocations traced in the
@@ -77,7 +77,7 @@ def drive(args):
             if time.monotonic() > deadline:
                 raise
             time.sleep(0.5)
-    t0, state = time.monotonic(), {"calls": 0, "round": 0, "test": ""}
+    t0, state = time.monotonic(), {"calls": 0, "round": 0, "test": "", "service": ""}
     out = open(args.csv, "a", newline="")
     writer = csv.writer(out)
 
@@ -85,15 +85,16 @@ def drive(args):
         writer.writerow([args.scene, state["round"], state["test"], state["calls"],
                          f"{time.monotonic() - t0:.1f}",
                          *(f"{v:.1f}" if isinstance(v, float) else v
-                           for v in process_figures(pid))])
+                           for v in process_figures(pid)), state["service"]])
         out.flush()
 
     class CountingCaller(fuzz.Caller):
-        def __call__(self, *a, **kw):
+        def __call__(self, service, *a, **kw):
             state["calls"] += 1
             if state["calls"] % args.every == 0:
                 sample()
-            return super().__call__(*a, **kw)
+            state["service"] = service.rsplit("/", 1)[-1]
+            return super().__call__(service, *a, **kw)
     fuzz.Caller = CountingCaller
 
     class NamingResult(unittest.TextTestResult):
@@ -101,7 +102,7 @@ def drive(args):
             state["test"] = test.id().split(".")[-1]
             super().startTest(test)
     sample()
-    objects = scene_objects(fuzz)
+    objects = scene_objects(fuzz, args.scene)
     if args.tracemalloc:
         os.kill(pid, signal.SIGUSR2)
     failed = 0
@@ -124,7 +125,7 @@ def drive(args):
         sample()
         if args.tracemalloc:
             os.kill(pid, signal.SIGUSR2)
-        now = scene_objects(fuzz)
+        now = scene_objects(fuzz, args.scene)
         print(f"{args.scene} round {k + 1}: {state['calls']} calls, "
               f"{process_figures(pid)[0]:.1f} MB, {len(result.failures) + len(result.errors)} "
               f"failed tests; {len(now)} scene objects, gone since the start: "
@@ -133,12 +134,23 @@ def drive(args):
     return 1 if failed else 0
 
 
-def scene_objects(fuzz):
+def set_test_params(rospy, launch):
+    """The private parameters the launch file gives its fuzz test (as rostest would)."""
+    import xml.etree.ElementTree as ET
+    for test in ET.parse(launch).getroot().iter("test"):
+        for p in test.iter("param"):
+            text = p.get("value")
+            value = {"true": True, "false": False}.get(text.lower(), text)
+            rospy.set_param("~" + p.get("name"), value)
+
+
+def scene_objects(fuzz, scene):
     """The scene's object names (the suite removes some of them, so later rounds run on a
     smaller scene)."""
     import rospy
     import vrep_common.srv as srv
     rospy.init_node("test_vrep_fuzz")    # the suite's own node name: it calls init_node again
+    set_test_params(rospy, os.path.join(ROSTEST_DIR, SCENES[scene]))
     rospy.wait_for_service("/vrep/simRosGetObjectGroupData", timeout=120)  # after its pid
     proxy = rospy.ServiceProxy("/vrep/simRosGetObjectGroupData", srv.simRosGetObjectGroupData)
     try:
@@ -205,6 +217,26 @@ def settling(rows):
                      f"{peaks[rounds[-1]] - peaks[half]:+.1f} MB from round {half} to "
                      f"{rounds[-1]} ({mine[-1]['calls']} calls, threads {mine[0]['threads']} -> "
                      f"{mine[-1]['threads']}, descriptors {mine[0]['fds']} -> {mine[-1]['fds']})")
+    return lines
+
+
+def growth_by_service(rows, top=8):
+    """Per scene, from the second round on: the resident memory gained across each service's
+    calls (a sample's ``service`` is the call just before it), summed, the largest first. Most
+    telling with ``--every 1``."""
+    lines = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        mine = [r for r in rows if r["scene"] == scene]
+        gained = {}
+        for before, after in zip(mine, mine[1:]):
+            if int(after["round"]) >= 2 and after.get("service"):
+                name = after["service"]
+                gained[name] = gained.get(name, 0.0) + float(after["rss_mb"]) \
+                    - float(before["rss_mb"])
+        worst = sorted(gained.items(), key=lambda kv: -kv[1])[:top]
+        if worst:
+            lines.append(f"{scene}: memory gained across each service's calls from round 2 on: "
+                         + ", ".join(f"{name} {mb:+.1f} MB" for name, mb in worst))
     return lines
 
 
@@ -280,6 +312,7 @@ def main():
     rows = read_rows(csv_path)
     plot(rows, os.path.join(args.out, "fuzz_memory.png"))
     print("\n".join(settling(rows)))
+    print("\n".join(growth_by_service(rows)))
     print(f"wrote {csv_path} and fuzz_memory.png" + ("" if status == 0 else
                                                        "; some fuzz tests failed (see above)"))
     return status

@@ -36,7 +36,6 @@ import os
 import platform
 import re
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -51,6 +50,7 @@ from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 
 from bench_table import markdown_table
+from epuck_vrep_compat.experiment.isolation import free_port
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CELL_SIDE_M = 0.30
@@ -74,12 +74,6 @@ def end_group(proc, timeout_s):
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def scene_file(n, cell_m, seed=1):

@@ -6,23 +6,18 @@ nothing of the source tree or the devel space can stand in for a missing install
 import ast
 import os
 import signal
-import socket
 import subprocess
 import tempfile
 import time
 
 import pytest
 
+from epuck_vrep_compat.experiment.isolation import free_port
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 INSTALL = os.path.join(REPO, ".ws", "install")
 SETUP = os.path.join(INSTALL, "local_setup.bash")
 PKG = "epuck_vrep_compat"
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class InstallEnv:

@@ -723,12 +723,19 @@ class VrepFuzz(unittest.TestCase):
         1e308, then at 1 rad/s; the simulation steps after each, and after a stop and a start."""
         joints = self.pools.handle_kinds["joints"]
         self.assertTrue(joints, "no joint in the scene")
+        # the launch file says whether any joint of its scene takes a position (the cell's arm
+        # and wheel joints do; an e-puck's wheels refuse one: they are driven by velocity)
+        settable = rospy.get_param("~joint_positions_settable")
         for service, field, value in (("simRosSetJointPosition", "position", 1e308),
                                       ("simRosSetJointTargetVelocity", "targetVelocity", 1.0)):
             self.enter("paused")
             answers = {self.call_vrep(service, handle=h, **{field: value}).result
                        for h in joints}
             self.assertLessEqual(answers, {1, -1}, service)
+            if service == "simRosSetJointPosition" and not settable:
+                self.assertEqual(answers, {-1}, "a joint of this scene took a position")
+            else:
+                self.assertIn(1, answers, f"{service}({value}) taken by no joint")
             self.call_vrep("simRosStartSimulation")
             self.require_advancing(f"after {service}({value}) on every joint")
             state = self.call_vrep("simRosGetJointState", handle=HANDLE_ALL).state
