@@ -95,3 +95,30 @@ def test_signals_set_through_vrep_are_at_most_max_signals_names_per_kind(monkeyp
 
 def test_the_signal_bound_is_ten_thousand():
     assert vrep_backend.MAX_SIGNALS == 10_000
+
+
+def test_set_logger_level_creates_at_most_max_new_loggers():
+    import logging
+    import uuid
+
+    import rospy
+    from roscpp.srv import SetLoggerLevelRequest
+    prefix = f"bounds_test_{uuid.uuid4().hex}"
+    levels = log.LoggerLevels(max_new=3)
+    logging.getLogger(f"{prefix}.existing")
+    for k in range(3):
+        levels(SetLoggerLevelRequest(logger=f"{prefix}.new{k}", level="warn"))
+        assert logging.getLogger(f"{prefix}.new{k}").level == logging.WARNING
+    with pytest.raises(rospy.ServiceException, match="3 loggers have been created"):
+        levels(SetLoggerLevelRequest(logger=f"{prefix}.one_more", level="debug"))
+    assert f"{prefix}.one_more" not in logging.Logger.manager.loggerDict
+    levels(SetLoggerLevelRequest(logger=f"{prefix}.existing", level="error"))   # still set
+    levels(SetLoggerLevelRequest(logger=f"{prefix}.new1", level="FATAL"))
+    assert logging.getLogger(f"{prefix}.existing").level == logging.ERROR
+    assert logging.getLogger(f"{prefix}.new1").level == logging.CRITICAL
+    levels(SetLoggerLevelRequest(logger=f"{prefix}.other", level="loud"))   # as rospy: no error
+    assert f"{prefix}.other" not in logging.Logger.manager.loggerDict
+
+
+def test_the_new_logger_bound_is_a_thousand():
+    assert log.MAX_NEW_LOGGERS == 1000

@@ -17,6 +17,8 @@ import rospy
 
 WARN_PERIOD_S = 5.0
 MAX_KEYS = 1000         # keys remembered; more distinct keys within one period: the oldest go
+MAX_NEW_LOGGERS = 1000  # loggers clients may create through ~set_logger_level (logging keeps
+                        # every logger for the life of the process)
 
 
 class ThrottledLog:
@@ -62,22 +64,62 @@ class ThrottledLog:
         return len(self._last)
 
 
-def serve_get_loggers_safely():
-    """Make this node's ``~get_loggers`` answer every time.
+def serve_logger_services_safely(max_new_loggers: int = MAX_NEW_LOGGERS):
+    """Make this node's ``~get_loggers`` answer every time and its ``~set_logger_level`` keep
+    memory bounded.
 
-    rospy's handler iterates ``logging.Logger.manager.loggerDict`` while other threads may
-    create loggers (rospy makes some per connection), and then fails with "dictionary changed
-    size during iteration"; it also fails on a level it has no name for. Call after
-    ``rospy.init_node``: the registered service keeps its name and type, its handler becomes one
-    that copies the logger table under logging's own lock first."""
+    rospy's ``get_loggers`` iterates ``logging.Logger.manager.loggerDict`` while other threads
+    may create loggers (rospy makes some per connection), and then fails with "dictionary
+    changed size during iteration"; it also fails on a level it has no name for. rospy's
+    ``set_logger_level`` creates a logger for any name a client sends, and logging keeps every
+    logger for the life of the process, so a client naming new loggers without end grows the
+    node without end. Call after ``rospy.init_node``: the registered services keep their names
+    and types; ``get_loggers`` copies the logger table under logging's own lock first;
+    ``set_logger_level`` sets a logger that exists as before, creates at most
+    ``max_new_loggers`` new ones, and refuses a new name beyond that with a message saying so
+    (the caller's service call fails)."""
     from rospy.impl.registration import get_service_manager
-    service = get_service_manager().get_service(rospy.resolve_name("~get_loggers"))
-    if service is not None:
-        service.handler = _get_loggers
+    handlers = {"~get_loggers": _get_loggers, "~set_logger_level": LoggerLevels(max_new_loggers)}
+    for name, handler in handlers.items():
+        service = get_service_manager().get_service(rospy.resolve_name(name))
+        if service is not None:
+            service.handler = handler
+
+
+class LoggerLevels:
+    """``~set_logger_level``'s handler: rospy's, but with at most ``max_new`` loggers created."""
+
+    def __init__(self, max_new: int):
+        self._max_new = max_new
+        self._created = 0
+        self._lock = threading.Lock()
+
+    def __call__(self, request):
+        from roscpp.srv import SetLoggerLevelResponse
+        level = _LEVELS.get(request.level.upper())
+        if level is None:                   # rospy's answer: a line in the log, no failure
+            logging.getLogger("rospy").error("Bad logging level: %s", request.level.upper())
+            return SetLoggerLevelResponse()
+        with self._lock:
+            if request.logger and request.logger not in logging.Logger.manager.loggerDict:
+                if self._created >= self._max_new:
+                    raise rospy.ServiceException(
+                        f"no logger named {request.logger[:200]!r}, and {self._max_new} "
+                        "loggers have been created through set_logger_level already: only "
+                        "the levels of existing loggers can be set")
+                self._created += 1
+                if self._created == self._max_new:
+                    rospy.logwarn("set_logger_level: %d loggers created through the service; "
+                                  "new names are refused from now on", self._max_new)
+            logging.getLogger(request.logger or None).setLevel(level)
+        return SetLoggerLevelResponse()
 
 
 _LEVEL_NAMES = ((logging.CRITICAL, "FATAL"), (logging.ERROR, "ERROR"),
                 (logging.WARNING, "WARN"), (logging.INFO, "INFO"), (logging.DEBUG, "DEBUG"))
+
+
+_LEVELS = {name: number for number, name in _LEVEL_NAMES}
 
 
 def _level_name(level: int) -> str:

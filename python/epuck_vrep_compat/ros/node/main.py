@@ -10,7 +10,7 @@ import rospy
 
 from epuck_vrep_compat.compat.topics import NODE, NODE_NAME
 from epuck_vrep_compat.paths import PackageNotFound, data_path
-from epuck_vrep_compat.ros.common.log import serve_get_loggers_safely
+from epuck_vrep_compat.ros.common.log import serve_logger_services_safely
 from epuck_vrep_compat.ros.node.malloc_arenas import (limit_malloc_arenas,
                                                       map_large_buffers)
 from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatch, master_pid
@@ -37,7 +37,7 @@ def main():
     rospy.init_node(NODE_NAME, disable_signals=True)
     stop = StopRequest()         # SIGINT and SIGTERM end the loop, then stop_node
     widen_accept_queue()         # a subscriber to every topic at once loses none
-    serve_get_loggers_safely()
+    serve_logger_services_safely()
     # watching from the start: rospy retries a vanished master forever while registering
     MasterWatch(first_master_pid)
     registration = BulkRegistration()
