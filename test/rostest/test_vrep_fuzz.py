@@ -37,6 +37,8 @@ from sim_test_helpers import PKG
 
 MIN_REQUESTS = 30                 # per service (TESTING.md)
 EXAMPLES = 34                     # Hypothesis examples per service (topped up to MIN_REQUESTS)
+MAX_NEW_LOGGERS = 1000             # loggers the simulator creates through set_logger_level
+NEW_LOGGERS_PER_THREAD = 400       # test_09's new names per thread: two threads stay under it
 # moving an object is where a refused but stored request breaks the scene, and only a few
 # objects (robots' bases, free scene objects) may move: more examples find them
 EXAMPLES_FOR = {"simRosSetObjectPose": 100, "simRosSetObjectPosition": 100,
@@ -801,7 +803,8 @@ class VrepFuzz(unittest.TestCase):
     def test_09_get_loggers_while_loggers_are_created(self):
         """Known defect (c): rospy's get_loggers walks the logging module's dict of loggers while
         other threads add to it. Two threads create loggers as fast as the service lets them
-        (set_logger_level with new names), one subscribes and unsubscribes, one enables and
+        (set_logger_level with new names, NEW_LOGGERS_PER_THREAD each, then the same again: the
+        simulator creates at most 1 000), one subscribes and unsubscribes, one enables and
         disables publishers."""
         stop, done, errors = threading.Event(), {"sub": 0, "log": 0, "pub": 0}, []
         topics = ["/vrep/info", "/clock", "/tf"] + [w.topic for w in self.watched]
@@ -818,7 +821,8 @@ class VrepFuzz(unittest.TestCase):
                                        persistent=True)
             while not stop.is_set():
                 try:
-                    proxy(logger=f"fuzz.{prefix}.{done['log']}", level="info")
+                    proxy(logger=f"fuzz.{prefix}.{done['log'] % NEW_LOGGERS_PER_THREAD}",
+                          level="info")
                 except rospy.ServiceException as e:
                     errors.append(f"set_logger_level: {e}")
                 done["log"] += 1
@@ -858,6 +862,37 @@ class VrepFuzz(unittest.TestCase):
         self.assertTrue(all(done.values()), f"the concurrent work did not run: {done}")
         self.no_problems(failures[:3] + errors[:3], f"{len(failures)} of 300 get_loggers calls "
                          f"failed while loggers were created ({done}):")
+
+    def test_09b_set_logger_level_creates_a_bounded_number_of_loggers(self):
+        """Python's logging keeps every logger it ever made: new names beyond the simulator's
+        bound (1 000, docs/parameters.md) are refused with a message and make no logger, and
+        an existing logger is still set."""
+        def set_level(name, level="info"):
+            return self.caller("/vrep/set_logger_level", SetLoggerLevel,
+                               SetLoggerLevel._request_class(logger=name, level=level))
+
+        def count():
+            return len(self.caller("/vrep/get_loggers", GetLoggers,
+                                   GetLoggers._request_class()).loggers)
+        refusal, sent = None, 0
+        for k in range(MAX_NEW_LOGGERS + 1):     # the same names in every run of the suite
+            sent += 1
+            try:
+                set_level(f"bound.{k}")
+            except CallFailed as e:
+                refusal = str(e)
+                break
+        self.assertIsNotNone(refusal, f"{MAX_NEW_LOGGERS + 1} new loggers were all created")
+        self.assertIn("loggers have been created through set_logger_level", refusal)
+        before = count()
+        for k in range(20):
+            with self.assertRaises(CallFailed):
+                set_level(f"bound.more.{k}")
+        self.assertEqual(count(), before, "refused names made loggers")
+        set_level("rospy", "warn")
+        set_level("rospy", "info")              # existing loggers are still set
+        VrepFuzz.requested["set_logger_level"] = \
+            VrepFuzz.requested.get("set_logger_level", 0) + sent + 22
 
     def test_10_huge_model_file_keeps_info_flowing(self):
         """Known defect (b): a model file with a ~4 MB list is read under the simulation lock."""
