@@ -39,6 +39,7 @@ MIN_REQUESTS = 30                 # per service (TESTING.md)
 EXAMPLES = 34                     # Hypothesis examples per service (topped up to MIN_REQUESTS)
 MAX_NEW_LOGGERS = 1000             # loggers the simulator creates through set_logger_level
 NEW_LOGGERS_PER_THREAD = 400       # test_09's new names per thread: two threads stay under it
+LOGGER_BOUND = "loggers have been created through set_logger_level"   # the refusal's words
 # moving an object is where a refused but stored request breaks the scene, and only a few
 # objects (robots' bases, free scene objects) may move: more examples find them
 EXAMPLES_FOR = {"simRosSetObjectPose": 100, "simRosSetObjectPosition": 100,
@@ -613,6 +614,8 @@ class VrepFuzz(unittest.TestCase):
         try:
             response = self.caller(f"/vrep/{name}", service_class, request)
         except CallFailed as e:
+            if name == "set_logger_level" and LOGGER_BOUND in str(e):
+                return []       # a new name past the bound (test_09b, an earlier round): refused
             return [f"{what}: {e}"]
         problems = [f"{what}: non-finite {p}" for p in non_finite(response)]
         if not refused(name, response):
@@ -883,7 +886,7 @@ class VrepFuzz(unittest.TestCase):
                 refusal = str(e)
                 break
         self.assertIsNotNone(refusal, f"{MAX_NEW_LOGGERS + 1} new loggers were all created")
-        self.assertIn("loggers have been created through set_logger_level", refusal)
+        self.assertIn(LOGGER_BOUND, refusal)
         before = count()
         for k in range(20):
             with self.assertRaises(CallFailed):
