@@ -160,6 +160,8 @@ class SsmSupervisor:
         self._last_cycle = now
         if self.operator_steps is not None:
             self.operator = self.operator_steps.next() or self.operator
+            if rospy.is_shutdown():          # ended while waiting (killed): say nothing more
+                return
         request, z_d, age, fault = self.operator_input(now)
         horizon = None if fault is not None else age + self.cycle_s
         answer = None
