@@ -36,8 +36,11 @@ def test_a_period_of_two_steps_falls_on_every_second_step_and_none_on_zero():
 
 def test_the_inbox_waits_for_the_steps_stamp_and_gives_each_message_once():
     box = Inbox()
-    box.put(estimate(0.05))
-    assert box.wait_for(rospy.Time.from_sec(0.05), timeout_s=0.0)
+    assert box.frame_id == ""
+    first = estimate(0.05)
+    first.header.frame_id = "Hokuyo"
+    box.put(first)
+    assert box.wait_for(rospy.Time.from_sec(0.05), timeout_s=0.0) and box.frame_id == "Hokuyo"
     later(0.05, box.put, estimate(0.10))
     assert box.wait_for(rospy.Time.from_sec(0.10), timeout_s=30.0)
     assert box.take().header.stamp.to_sec() == 0.10 and box.take() is None

@@ -50,15 +50,18 @@ class StepClock:
 
 
 class Inbox:
-    """The newest message of a stamped topic (``put`` from its subscriber)."""
+    """The newest message of a stamped topic (``put`` from its subscriber); ``frame_id``: the
+    last message's frame (a sensor's name), empty before the first."""
 
     def __init__(self):
         self._cond = threading.Condition()
         self._msg = None
+        self.frame_id = ""
 
     def put(self, msg):
         with self._cond:
             self._msg = msg
+            self.frame_id = msg.header.frame_id
             self._cond.notify_all()
 
     def take(self):
