@@ -1,9 +1,15 @@
 """The safety benchmark (experiments/safety_ssm.yaml through ``safety_bench``) at a small size:
 every monitor x fault cell over one walk and our supervisor over two, all ok, with the
-results the arithmetic predicts for that walk; and the coverage maps of both layouts."""
+results the arithmetic predicts for that walk; the same walk twice gives the same row; and the
+coverage maps of both layouts."""
+import math
 import os
 
+import yaml
+
 import evc_harness as h
+
+EXPERIMENTS = os.path.join(h.REPO, "experiments")
 
 
 def test_every_cell_one_walk_and_the_report(tmp_path):
@@ -38,6 +44,48 @@ def test_every_cell_one_walk_and_the_report(tmp_path):
     report = (out / "report.md").read_text()
     assert "| ssm | none | 2 |" in report, report
     assert "roslaunch ssm_bench replay.launch seed:=" in report, report
+
+
+def first_cell_spec(folder, seeds):
+    """The shipped spec cut to its first cell (our supervisor at its defaults, no fault) and
+    ``seeds``, written to ``folder`` (its paths made absolute); returns its path."""
+    with open(os.path.join(EXPERIMENTS, "safety_ssm.yaml")) as f:
+        spec = yaml.safe_load(f)
+    spec["vary"] = {"list": spec["vary"]["list"][:1]}
+    spec["seeds"] = seeds
+    spec["package_path"] = [os.path.join(EXPERIMENTS, p) for p in spec["package_path"]]
+    spec["simulator"]["launch"] = os.path.join(EXPERIMENTS, spec["simulator"]["launch"])
+    for entry in spec["code"]:
+        if "launch" in entry:
+            entry["launch"] = os.path.join(EXPERIMENTS, entry["launch"])
+    path = os.path.join(folder, "first_cell.yaml")
+    with open(path, "w") as f:
+        yaml.safe_dump(spec, f)
+    return path
+
+
+def test_the_same_walk_twice_gives_the_same_row(tmp_path):
+    """Issue 26: seed 0 of the first cell, run twice at once (two experiments, each its own
+    ROS world): in lock-step every metric is the same to the last digit, the productivity,
+    reaction and tracker error as well as the true separation (the tracker, the Kinect node and
+    the supervisor each answer every step once from that step's inputs; the probe records the
+    supervisor's unstamped scale at the step it answered)."""
+    spec = first_cell_spec(tmp_path, [0])
+    procs = [h.start(h.command(spec, tmp_path / f"out{k}", "--workers", 1), tmp_path)
+             for k in (0, 1)]
+    results = [h.finish(proc) for proc in procs]
+    rows = []
+    for k, (code, stdout, stderr) in enumerate(results):
+        assert code == 0, h.explain(code, stdout, stderr)
+        rows += h.record(tmp_path / f"out{k}")
+    assert len(rows) == 2 and {r["status"] for r in rows} == {"ok"}, h.describe(rows)
+    a, b = (h.metrics_of(r) for r in rows)
+    assert a.keys() == b.keys() and len(a) > 10, (a, b)
+    differ = {k: (a[k], b[k]) for k in a if not (a[k] == b[k] or (
+        isinstance(a[k], float) and isinstance(b[k], float) and math.isnan(a[k])
+        and math.isnan(b[k])))}
+    assert differ == {}, differ
+    assert 0.0 < a["metric.productivity"] < 1.0 and a["metric.tracker_error_mean_m"] > 0.0, a
 
 
 def test_coverage_maps_of_both_layouts(tmp_path):

@@ -6,7 +6,11 @@ gives the user's nodes ``start_grace_s`` to subscribe, then starts the simulatio
 at whatever real-time factor the simulator was given (the runner gives ``rtf:=0``), or
 ``lockstep``, V-REP's synchronous mode: one step, then wait until every ``wait_for`` topic
 has published once (or ``step_timeout_s`` of wall time passed: a late step, counted; with
-``skip_gone``, a topic whose publishers have all gone is not waited for).
+``skip_gone``, a topic whose publishers have all gone is not waited for). In lock-step an
+answer is a message that came after the step's trigger (a latched one sent before the start
+answers no step), and a message without a stamp is recorded at the time of the step during
+which it came (the simulator holds that step until the next trigger), even when that step's
+``/clock`` reaches the probe after it.
 It records every message of the topics matching ``~topics`` (glob patterns) as numeric
 columns, and once the simulated time reaches ``~duration_s`` writes the recording (npz), the
 world's scene file and a status file beside it, then exits: the launch marks it required, so
@@ -30,6 +34,7 @@ from epuck_vrep_compat.experiment import flatten, metrics
 
 START_TIMEOUT_S = 60.0
 GONE_POLL_S = 0.05     # how often a step's wait looks for wait_for topics left silent
+CLOCK_WAIT_S = 1.0     # wall time an unstamped message waits for its step's /clock
 
 
 class Probe:
@@ -45,6 +50,7 @@ class Probe:
         self.columns = {}                # topic -> flatten.Columns
         self.counts = {}                 # wait_for's topics -> messages received
         self.late_steps = 0
+        self.triggered = self.clocks = 0         # lock-step: steps triggered, their /clock seen
         self.times = {"probe": time.time()}       # wall clock of each phase, for the row
         self.subs = []
         self.by_topic = {}               # wait_for's topics -> their subscriber
@@ -52,11 +58,15 @@ class Probe:
     # --- callbacks -------------------------------------------------------------------------
     def on_clock(self, msg):
         with self.lock:
+            if msg.clock.to_sec() > self.clock:
+                self.clocks += 1
             self.clock = msg.clock.to_sec()
             self.lock.notify_all()
 
     def on_message(self, msg, topic):
         with self.lock:
+            if not self.columns[topic].has_stamp:
+                self.lock.wait_for(lambda: self.clocks >= self.triggered, CLOCK_WAIT_S)
             self.columns[topic].add(msg, self.clock)
             if topic in self.counts:
                 self.counts[topic] += 1
@@ -116,13 +126,16 @@ class Probe:
                                      simRosSynchronousTrigger, persistent=True)
         timeout = self.pace.get("step_timeout_s", 1.0)
         settle_s = self.pace.get("settle_s", 0.003)
-        required = dict.fromkeys(self.counts, 0)
+        with self.lock:
+            required = dict(self.counts)         # what came before the start answers no step
         while not rospy.is_shutdown():
             with self.lock:
                 if self.clock >= self.duration_s:
                     return
                 before_clock = self.clock
             time.sleep(settle_s)         # the answer reaches the simulator by its own connection
+            with self.lock:
+                self.triggered += 1
             trigger()
             required = {t: n + 1 for t, n in required.items()}
             deadline = time.monotonic() + timeout

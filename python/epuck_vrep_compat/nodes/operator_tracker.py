@@ -22,7 +22,9 @@ thesis's), ``~view_angle_deg`` (80), ``~blob_height_m`` (0.6), ``~camera_pair_si
 ``~fresh_s`` (0.15: older blobs are not used), ``~accel_density`` (4 m^2/s^3),
 ``~kinect_fov_deg`` (57), ``~bias_sigma_m`` (0.05) and ``~lag_s`` (0.05): the published
 position covariance is the filter's plus the sensors' biases and the lag
-(:func:`tracker_filter.published_covariance`, measured in docs/cell.md).
+(:func:`tracker_filter.published_covariance`, measured in docs/cell.md). With ``~lockstep``
+(false) it estimates once per simulation step instead, from that step's inputs
+(:mod:`tracker_steps`: ``~laser_period_s``, ``~kinect_period_s``).
 """
 import numpy as np
 import rospy
@@ -38,7 +40,9 @@ from epuck_vrep_compat.compat.topics import (
 from epuck_vrep_compat.nodes import tracker_geometry as geo
 from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter, published_covariance
 from epuck_vrep_compat.nodes.tracker_kinect import KinectRange
+from epuck_vrep_compat.nodes.step_inputs import Inbox, NotifyingTransformListener
 from epuck_vrep_compat.nodes.tracker_markers import estimate_markers
+from epuck_vrep_compat.nodes.tracker_steps import TrackerSteps
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 
@@ -77,42 +81,50 @@ class OperatorTracker:
         self.lag_s = _non_negative("lag_s", 0.05)
         self.fresh_s = _positive("fresh_s", 0.15)
         rate_hz = _positive("rate_hz", 20.0)
+        self.lockstep = read_typed("lockstep", False, bool)
         self.filter = OperatorFilter(_positive("accel_density", 4.0))
         self.log = ThrottledLog()
         self.blobs = {(k, a): None for k in range(2) for a in "XY"}
-        self.scan = None
-        self.depth = None
+        self.scan, self.depth = Inbox(), Inbox()        # the newest, not used yet
         self.kinect = KinectRange(_positive("kinect_fov_deg", 57.0))
         self.background = geo.LaserBackground()
         self.refused = 0          # camera measurements refused in a row: the track is lost
         self.tf = tf2_ros.Buffer()
-        self._listener = tf2_ros.TransformListener(self.tf)
-        self._subs = [rospy.Subscriber(BLOB_TOPIC_FORMAT.format(camera=k, axis=a), Float32,
-                                       self._on_blob, (k, a), queue_size=4)
-                      for (k, a) in self.blobs]
-        self._subs += [rospy.Subscriber(NODE_NAMESPACE + CELL_LASER_TOPIC, LaserScan, self._on_scan,
-                                        queue_size=1),
-                       rospy.Subscriber(KINECT_DEPTH_IMAGE_TOPIC, Image, self._on_depth,
-                                        queue_size=1, buff_size=2 ** 22)]
-        self.pose_pub = rospy.Publisher("~pose", PoseWithCovarianceStamped, queue_size=1)
-        self.twist_pub = rospy.Publisher("~twist", TwistWithCovarianceStamped, queue_size=1)
+        self._listener = NotifyingTransformListener(self.tf)
+        # in lock-step the blobs are read from /vrep at each step (their topics carry no stamp)
+        self._subs = [] if self.lockstep else [
+            rospy.Subscriber(BLOB_TOPIC_FORMAT.format(camera=k, axis=a), Float32, self._on_blob,
+                             (k, a), queue_size=4) for (k, a) in self.blobs]
+        self.scan_sub = rospy.Subscriber(NODE_NAMESPACE + CELL_LASER_TOPIC, LaserScan,
+                                         self.scan.put, queue_size=1)
+        self.depth_sub = rospy.Subscriber(KINECT_DEPTH_IMAGE_TOPIC, Image, self._on_depth,
+                                          queue_size=1, buff_size=2 ** 22)
+        queue = 10 if self.lockstep else 1      # lock-step: every step's estimate, latched
+        self.pose_pub = rospy.Publisher("~pose", PoseWithCovarianceStamped, queue_size=queue,
+                                        latch=self.lockstep)
+        self.twist_pub = rospy.Publisher("~twist", TwistWithCovarianceStamped, queue_size=queue)
         self.marker_pub = rospy.Publisher("~markers", MarkerArray, queue_size=1)
-        rospy.loginfo("operator_tracker: %s Hz; sigmas %s m; laser gate %.2f m", rate_hz,
-                      self.sigma, self.laser_gate)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
+        rospy.loginfo("operator_tracker: %s; sigmas %s m; laser gate %.2f m",
+                      "in lock-step" if self.lockstep else f"{rate_hz} Hz", self.sigma,
+                      self.laser_gate)
+        if self.lockstep:
+            self.steps = TrackerSteps(self, _non_negative("laser_period_s", 0.1),
+                                      _non_negative("kinect_period_s", 0.1))
+        else:
+            self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
 
     def _on_blob(self, msg, key):
         self.blobs[key] = (rospy.Time.now().to_sec(), float(msg.data))
 
-    def _on_scan(self, msg):
-        self.scan = msg
-
     def _on_depth(self, msg):
         if msg.encoding == "32FC1":
-            self.depth = msg
+            self.depth.put(msg)
 
     def _sensor_pose(self, frame):
-        """(position, quaternion) of a sensor frame in the world, or None (warned)."""
+        """(position, quaternion) of a sensor frame in the world, or None (warned); in
+        lock-step once it is known (its static frame may come after the first step)."""
+        if self.lockstep:
+            self._listener.wait_transform(WORLD_FRAME, frame, rospy.Time(0))
         try:
             t = self.tf.lookup_transform(WORLD_FRAME, frame, rospy.Time(0)).transform
         except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
@@ -124,7 +136,7 @@ class OperatorTracker:
 
     def kinect_measurement(self):
         """(xy, R): the Kinect's range to him along its ray, in an image not used yet."""
-        msg, self.depth = self.depth, None
+        msg = self.depth.take()
         if msg is None or not self.filter.started:
             return None
         pose = self._sensor_pose(msg.header.frame_id)
@@ -161,7 +173,7 @@ class OperatorTracker:
     def laser_measurement(self, camera):
         """(xy, R) of the cluster, in a scan not used yet, nearest the cameras' estimate (or,
         while no camera sees him, the filter's prediction); None without one."""
-        scan, self.scan = self.scan, None
+        scan = self.scan.take()
         if scan is None:
             return None
         pose = self._sensor_pose(scan.header.frame_id)
@@ -180,8 +192,10 @@ class OperatorTracker:
         best, _ = geo.nearest(candidates, reference, self.laser_gate)
         return None if best is None else (best, np.eye(2) * self.sigma["laser"] ** 2)
 
-    def cycle(self, _event=None):
-        now = rospy.Time.now()
+    def cycle(self, _event=None, now=None):
+        """One estimate at ``now`` (None: the clock's time); False when there is none (no
+        track yet and no camera sees him)."""
+        now = now if now is not None else rospy.Time.now()
         t = now.to_sec()
         camera = self.camera_measurement(t)
         laser = self.laser_measurement(camera)    # (keeps the background up to date)
@@ -191,7 +205,7 @@ class OperatorTracker:
             self.filter.x, self.refused = None, 0
         if not self.filter.started:
             if camera is None:
-                return
+                return False
             self.filter.start(t, *camera)
         self.filter.predict(t)
         if camera is not None:
@@ -200,9 +214,15 @@ class OperatorTracker:
             if measurement is not None:
                 self.filter.update(*measurement)
         self.publish(now)
+        return True
 
     def publish(self, stamp):
-        x, cov = self.filter.x, self.filter.P
+        """The filter's estimate; without a track (lock-step's every step must have its
+        message), a position and covariance of NaN."""
+        if self.filter.started:
+            x, cov = self.filter.x, self.filter.P
+        else:
+            x, cov = np.full(4, np.nan), np.full((4, 4), np.nan)
         pose = PoseWithCovarianceStamped()
         pose.header.stamp, pose.header.frame_id = stamp, WORLD_FRAME
         pose.pose.pose.position.x, pose.pose.pose.position.y = float(x[0]), float(x[1])
@@ -218,8 +238,9 @@ class OperatorTracker:
         pose.pose.covariance, twist.twist.covariance = pc.ravel().tolist(), tc.ravel().tolist()
         self.pose_pub.publish(pose)
         self.twist_pub.publish(twist)
-        self.marker_pub.publish(MarkerArray(markers=estimate_markers(
-            WORLD_FRAME, stamp, x, pc[:2, :2])))
+        if self.filter.started:
+            self.marker_pub.publish(MarkerArray(markers=estimate_markers(
+                WORLD_FRAME, stamp, x, pc[:2, :2])))
 
 
 def main():

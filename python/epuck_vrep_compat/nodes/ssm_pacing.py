@@ -8,6 +8,13 @@ robot's joint states of one stamp have arrived (and, for the robots' bases, TF a
 never twice for one stamp. Before the first step it sends each robot a latched scale 0 (not
 supervising yet) once it hears their joint states' publisher: the simulator's signal that the
 supervisor is ready.
+
+With ``~lockstep_operator`` the cycle also waits for the operator's estimate of its step
+(:class:`OperatorSteps`): the tracker in lock-step (:mod:`tracker_steps`) and a relay between
+them send one message per step, in order, after a latched one stamped 0 when ready; the n-th
+message after that one answers the n-th step, however late it comes (a fault that holds the
+estimates back sends an old one, with its old stamp). Without it the cycle takes the latest
+estimate, which may be the last step's or this one's.
 """
 import threading
 import time
@@ -16,17 +23,19 @@ import rospy
 import tf2_ros
 
 from epuck_vrep_compat.compat.frames import WORLD_FRAME
-
-INPUT_TIMEOUT_S = 2.0           # wall time a lock-step cycle waits for TF at its stamp
+from epuck_vrep_compat.nodes.step_inputs import INPUT_TIMEOUT_S
 
 
 class StepPacer:
     """Runs ``cycle(now)`` once per stamp on which every channel has joint states."""
 
-    def __init__(self, channels, cycle, tf_buffer):
+    def __init__(self, channels, cycle, tf_listener, operator=None):
+        """``tf_listener``: a :class:`step_inputs.NotifyingTransformListener`; ``operator``:
+        the :class:`OperatorSteps` to wait for before the first step (None: none)."""
         self.channels = channels
         self.cycle = cycle
-        self.tf_buffer = tf_buffer
+        self.tf_listener = tf_listener
+        self.operator = operator
         self._lock = threading.Lock()
         self._last = rospy.Time(0)
 
@@ -35,6 +44,8 @@ class StepPacer:
         while not rospy.is_shutdown() and any(
                 c.joints_subscriber.get_num_connections() == 0 for c in self.channels.values()):
             time.sleep(0.02)
+        if self.operator is not None:
+            self.operator.wait_ready()
         for channel in self.channels.values():
             channel.command.publish(0.0)
 
@@ -55,16 +66,54 @@ class StepPacer:
     def _await_tf(self, now):
         """Each robot's root frame on TF at ``now`` (or the wait ends: the cycle then fails
         safe for lack of it, as a stale input does)."""
-        deadline = time.monotonic() + INPUT_TIMEOUT_S
         for channel in self.channels.values():
             root = channel.root_frame()
-            while (root is not None and not rospy.is_shutdown()
-                   and not self.tf_buffer.can_transform(WORLD_FRAME, root, now)):
-                if time.monotonic() > deadline:
-                    rospy.logwarn("ssm_supervisor: no TF of %s at %.3f s within %.1f s", root,
-                                  now.to_sec(), INPUT_TIMEOUT_S)
+            if root is not None and not self.tf_listener.wait_transform(WORLD_FRAME, root, now):
+                rospy.logwarn("ssm_supervisor: no TF of %s at %.3f s within %.1f s", root,
+                              now.to_sec(), INPUT_TIMEOUT_S)
+
+
+class OperatorSteps:
+    """The operator's estimates in lock-step: the n-th after the one stamped 0 is step n's."""
+
+    def __init__(self):
+        self._cond = threading.Condition()
+        self._ready = False
+        self._received = {}             # message number (1, 2, ...) -> message
+        self._count = self._taken = 0
+
+    def on_message(self, msg):
+        """An estimate arrived (its subscriber's thread)."""
+        with self._cond:
+            if msg.header.stamp.is_zero():
+                self._ready = True               # (again, when latched: changes nothing)
+            elif self._ready:
+                self._count += 1
+                self._received[self._count] = msg
+            self._cond.notify_all()
+
+    def wait_ready(self):
+        """Until the message stamped 0 has come."""
+        with self._cond:
+            while not self._ready and not rospy.is_shutdown():
+                self._cond.wait(1.0)
+
+    def next(self):
+        """The next step's estimate, or None when it has not come within INPUT_TIMEOUT_S of
+        wall time (the following step then still takes its own)."""
+        deadline = time.monotonic() + INPUT_TIMEOUT_S
+        with self._cond:
+            self._taken += 1
+            while self._count < self._taken and not rospy.is_shutdown():
+                left = deadline - time.monotonic()
+                if left <= 0.0:
+                    rospy.logwarn("ssm_supervisor: no operator estimate of step %d within "
+                                  "%.1f s", self._taken, INPUT_TIMEOUT_S)
                     break
-                time.sleep(0.001)
+                self._cond.wait(left)
+            for n in [n for n in self._received if n < self._taken]:
+                del self._received[n]
+            return self._received.pop(self._taken, None)
 
 
 def lookup_root(tf_buffer, root, stamp):

@@ -19,10 +19,12 @@ and ``operator_uncertainty`` (Z_d) (``std_msgs/Float64``), ``protective_stop`` (
 Fail safe: a missing, stale (older than ``~stale_s``) or non-finite operator estimate, stale
 joint states or a failed separation query stop the robot (scale 0), with the reason on
 ``status`` and a throttled warning. With ``~lockstep`` (and the simulator's
-``~lockstep_timeout_s``) it answers every step from that step's inputs (:mod:`ssm_pacing`). ``~set_enabled`` (``std_srvs/SetBool``) turns the override
-off (scale 1, monitoring goes on) and on again. Parameters: ``~robots`` (default: every robot
-the simulator reports), ``~ground_truth`` (false), ``~rate_hz`` (20), ``~stale_s`` (0.5) and
-the fields of :class:`SsmParameters` with their defaults.
+``~lockstep_timeout_s``) it answers every step from that step's inputs (:mod:`ssm_pacing`),
+and with ``~lockstep_operator`` (false) from that step's operator estimate too.
+``~set_enabled`` (``std_srvs/SetBool``) turns the override off (scale 1, monitoring goes on)
+and on again. Parameters: ``~robots`` (default: every robot the simulator reports),
+``~ground_truth`` (false), ``~rate_hz`` (20), ``~stale_s`` (0.5) and the fields of
+:class:`SsmParameters` with their defaults.
 """
 import math
 
@@ -30,20 +32,17 @@ import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import PoseWithCovarianceStamped
-from sensor_msgs.msg import JointState
-from std_msgs.msg import Bool, Float64, String
 from std_srvs.srv import SetBool, SetBoolResponse
 from visualization_msgs.msg import MarkerArray
 
-from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.frames import WORLD_FRAME
-from epuck_vrep_compat.compat.topics import (
-    JOINT_STATES_TOPIC, OPERATOR_SEPARATION_SERVICE, ROBOT_DESCRIPTION_PARAM, SPEED_SCALE_TOPIC)
-from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds, root_twist
+from epuck_vrep_compat.compat.topics import OPERATOR_SEPARATION_SERVICE
+from epuck_vrep_compat.nodes.ssm_channel import RobotChannel
 from epuck_vrep_compat.nodes.ssm_markers import robot_markers
 from epuck_vrep_compat.nodes.ssm_model import (
-    ArmGovernor, SsmParameters, operator_uncertainty, protective_separation)
-from epuck_vrep_compat.nodes.ssm_pacing import StepPacer, lookup_root
+    SsmParameters, operator_uncertainty, protective_separation)
+from epuck_vrep_compat.nodes.ssm_pacing import OperatorSteps, StepPacer
+from epuck_vrep_compat.nodes.step_inputs import NotifyingTransformListener
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.common.params import ParamError, read_typed
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationRequest
@@ -72,78 +71,6 @@ def read_parameters():
             read_typed("operator_topic", "/operator_tracker/pose", str), lockstep)
 
 
-class RobotChannel:
-    """One supervised robot: its joint states in, its scale and reports out."""
-
-    def __init__(self, name, p, lockstep=False, on_joints=None):
-        """``lockstep``: the scale is latched (see :mod:`ssm_pacing`); ``on_joints(stamp)``:
-        called after each joint state message."""
-        self.name = name
-        self._on_joints_hook = on_joints
-        self.ros_name = ros_name = ros_robot_name(name)     # a copy's IRB140#0: IRB140_0
-        self.governor = ArmGovernor(p)
-        self.joints = None
-        self.kinematics = None
-        self.root_pose = None        # (stamp, position, quaternion) of the root on TF
-        self.root_velocity = (None, None)     # its (linear, angular), root frame; None: rest
-        self.status = None
-        self.joints_subscriber = rospy.Subscriber(JOINT_STATES_TOPIC.format(robot=ros_name),
-                                                  JointState, self._on_joints, queue_size=1)
-        ns = f"~{ros_name}/"
-        # in lock-step the simulator waits for it: written at once, by the cycle's thread
-        self.command = rospy.Publisher(SPEED_SCALE_TOPIC.format(robot=ros_name), Float64,
-                                       queue_size=None if lockstep else 1, latch=lockstep)
-        self.out = {k: rospy.Publisher(ns + k, Float64, queue_size=1)
-                    for k in ("separation", "protective_separation", "scale",
-                              "operator_uncertainty")}
-        self.stop_pub = rospy.Publisher(ns + "protective_stop", Bool, queue_size=1)
-        self.status_pub = rospy.Publisher(ns + "status", String, queue_size=1, latch=True)
-
-    def _on_joints(self, msg):
-        self.joints = msg
-        if self._on_joints_hook is not None:
-            self._on_joints_hook(msg.header.stamp)
-
-    def root_frame(self):
-        """The robot's root link (its TF frame), or None while its description is unknown."""
-        if self.kinematics is None:
-            description = rospy.get_param(ROBOT_DESCRIPTION_PARAM.format(robot=self.ros_name), None)
-            if description is None:
-                return None
-            self.kinematics = LinkSpeeds(description)
-        return self.kinematics.root
-
-    def link_speeds(self, links, local_points, tf_buffer, stamp=None):
-        """Speeds of the points, or None while the robot's description or its root's frame
-        on TF is unknown; the root's frame at ``stamp`` (None: the latest)."""
-        root = self.root_frame()
-        t = lookup_root(tf_buffer, root, stamp) if root is not None else None
-        if t is None:
-            return None
-        p, r = t.transform.translation, t.transform.rotation
-        pose = (t.header.stamp.to_sec(), np.array([p.x, p.y, p.z]),
-                np.array([r.x, r.y, r.z, r.w]))
-        if self.root_pose is None:
-            self.root_pose = pose
-        elif pose[0] > self.root_pose[0]:       # a new frame: the twist since the last one
-            self.root_velocity = root_twist(self.root_pose, pose)
-            self.root_pose = pose
-        linear, angular = self.root_velocity
-        j = self.joints
-        return self.kinematics.speeds(j.name, j.position, j.velocity or [0.0] * len(j.name),
-                                      links, local_points, linear, angular)
-
-    def report(self, separation, s_p, scale, status, z_d=math.nan):
-        self.command.publish(Float64(scale))
-        for key, value in (("separation", separation), ("protective_separation", s_p),
-                           ("scale", scale), ("operator_uncertainty", z_d)):
-            self.out[key].publish(Float64(value))
-        self.stop_pub.publish(Bool(scale <= 0.0))
-        if status != self.status:
-            self.status = status
-            self.status_pub.publish(String(status))
-
-
 class SsmSupervisor:
     """The supervisor's state and its cycle (see the module's docstring)."""
 
@@ -156,8 +83,11 @@ class SsmSupervisor:
         self.cycle_s = 1.0 / rate_hz           # the period, until two cycles tell it
         self._last_cycle = rospy.Time(0)
         self.tf_buffer = tf2_ros.Buffer(rospy.Duration(5.0))
-        self._tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        pacer = StepPacer({}, self.cycle, self.tf_buffer) if self.lockstep else None
+        self._tf_listener = NotifyingTransformListener(self.tf_buffer)
+        self.operator_steps = (OperatorSteps() if self.lockstep and not self.ground_truth
+                               and read_typed("lockstep_operator", False, bool) else None)
+        pacer = (StepPacer({}, self.cycle, self._tf_listener, self.operator_steps)
+                 if self.lockstep else None)
         self.channels = {name: RobotChannel(name, self.p, self.lockstep,
                                             pacer.on_joints if pacer else None)
                          for name in robots}
@@ -165,8 +95,10 @@ class SsmSupervisor:
         self.query = rospy.ServiceProxy(OPERATOR_SEPARATION_SERVICE, OperatorSeparation)
         self.markers = rospy.Publisher("~markers", MarkerArray, queue_size=1)
         if not self.ground_truth:
+            steps = self.operator_steps
             self._sub = rospy.Subscriber(operator_topic, PoseWithCovarianceStamped,
-                                         self._on_operator, queue_size=1)
+                                         steps.on_message if steps else self._on_operator,
+                                         queue_size=100 if steps else 1)
         rospy.Service("~set_enabled", SetBool, self._on_set_enabled)
         rospy.loginfo("ssm_supervisor: %s, %s Hz, operator %s; T_r %.2f s, T_s %.2f s, "
                       "C %.2f m, Z_r %.2f m, v_h %.2f m/s", robots or "every robot", rate_hz,
@@ -226,6 +158,10 @@ class SsmSupervisor:
         if self._last_cycle > rospy.Time(0):
             self.cycle_s = min((now - self._last_cycle).to_sec(), self.stale_s)
         self._last_cycle = now
+        if self.operator_steps is not None:
+            self.operator = self.operator_steps.next() or self.operator
+            if rospy.is_shutdown():          # ended while waiting (killed): say nothing more
+                return
         request, z_d, age, fault = self.operator_input(now)
         horizon = None if fault is not None else age + self.cycle_s
         answer = None

@@ -17,15 +17,22 @@ spec/models.md section 6); they must match the scene's sensor: at start-up the s
 planes are read (simRosGetObjectFloatParameter 1000/1001) and a mismatch is warned about.
 
 Parameters: ``~depth_sensor`` (kinect_depth), ``~rgb_sensor`` (kinect_rgb),
-``~near_clipping_m`` (0.5), ``~far_clipping_m`` (5.0), ``~rate`` (20 Hz).
+``~near_clipping_m`` (0.5), ``~far_clipping_m`` (5.0), ``~rate`` (20 Hz), ``~lockstep``
+(false). The node reads at ``~rate`` of ROS time; with ``~lockstep``, at the simulation steps
+instead (each new ``/clock`` time): at each step whose time passes a multiple of 1/``~rate``,
+stamped with the step's time, so that a reader in lock-step (``operator_tracker``'s
+``~kinect_period_s``, the same rule: ``nodes/step_inputs.due``) knows which steps bring an
+image, and the simulator, waiting for that reader, answers from that step's state.
 """
 import math
+import time
 from typing import Optional, Sequence
 
 import numpy as np
 import rospy
 from sensor_msgs.msg import Image
 from rospy.numpy_msg import numpy_msg
+from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension
 from vrep_common.srv import (
     simRosGetObjectFloatParameter, simRosGetVisionSensorDepthBuffer,
@@ -34,12 +41,14 @@ from vrep_common.srv import (
 from epuck_vrep_compat.compat import thesis_names
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.compat.topics import KINECT_DEPTH_IMAGE_TOPIC
+from epuck_vrep_compat.ros.common.params import read_typed
 from epuck_vrep_compat.thesis import params
 from epuck_vrep_compat.thesis.cameras import IMAGE_SERVICES, read_image, stamp_header
 from epuck_vrep_compat.thesis.vrep_client import VrepClient, run_node, spin_periodic
 
 DEFAULT_NEAR_M = 0.5
 DEFAULT_FAR_M = 5.0
+STEP_EPS = 1e-6          # a step's time within this many periods of a multiple falls on it
 
 
 class DepthBufferAsArray(simRosGetVisionSensorDepthBuffer):
@@ -84,6 +93,11 @@ class Kinect:
         self.near_m = params.read_float("near_clipping_m", DEFAULT_NEAR_M)
         self.far_m = params.read_float("far_clipping_m", DEFAULT_FAR_M, minimum=self.near_m)
         self.rate_hz = params.read_rate_hz()
+        self.clock, self._last_step, self._ready = None, rospy.Time(0), False
+        if read_typed("lockstep", False, bool):     # hears every step before it publishes
+            self.clock = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=100)
+            while not rospy.is_shutdown() and self.clock.get_num_connections() == 0:
+                time.sleep(0.02)
         self.client = VrepClient(dict(
             IMAGE_SERVICES, simRosGetVisionSensorDepthBuffer=DepthBufferAsArray,
             simRosGetObjectFloatParameter=simRosGetObjectFloatParameter))
@@ -93,6 +107,7 @@ class Kinect:
         self._depth_pub = rospy.Publisher(KINECT_DEPTH_IMAGE_TOPIC, Image, queue_size=1)
         self._rgb_pub = rospy.Publisher(thesis_names.KINECT_RGB_IMAGE_TOPIC, Image, queue_size=1)
         self._clipping_checked = False
+        self._ready = True
         rospy.loginfo("%s: depth '%s' -> %s, %s (clipping %.2f .. %.2f m); rgb '%s' -> %s; "
                       "rate %.1f Hz", rospy.get_name(), self.depth_sensor,
                       thesis_names.KINECT_DEPTH_BUFFER_TOPIC, KINECT_DEPTH_IMAGE_TOPIC,
@@ -114,7 +129,7 @@ class Kinect:
                           rospy.get_name(), self.depth_sensor, near_m, far_m, self.near_m,
                           self.far_m)
 
-    def _publish_depth(self, handle: int):
+    def _publish_depth(self, handle: int, stamp=None):
         if not self._clipping_checked:
             self._check_clipping(handle)
         res = self.client.call("simRosGetVisionSensorDepthBuffer", handle=handle)
@@ -128,23 +143,41 @@ class Kinect:
                                  len(res.buffer))
             self.client.forget_handle(self.depth_sensor)
             return
+        if stamp is not None:
+            image.header.stamp = stamp
         stamp_header(image.header, self.depth_sensor)
         self._buffer_pub.publish(depth_buffer_message(res.resolution, res.buffer))
         self._depth_pub.publish(image)
 
-    def step(self):
+    def step(self, stamp=None):
+        """One reading of each sensor somebody subscribes to (``stamp``: the images' stamp;
+        None: the time now)."""
         depth = self.client.handle(self.depth_sensor, "vision sensor")      # warn while missing
         rgb = self.client.handle(self.rgb_sensor, "vision sensor")
         if depth >= 0 and (self._buffer_pub.get_num_connections()
                            or self._depth_pub.get_num_connections()):
-            self._publish_depth(depth)
+            self._publish_depth(depth, stamp)
         if rgb >= 0 and self._rgb_pub.get_num_connections():
             image = read_image(self.client, rgb, self.rgb_sensor)
             if image is not None:
+                if stamp is not None:
+                    image.header.stamp = stamp
                 self._rgb_pub.publish(image)
 
+    def _on_clock(self, msg):
+        """Lock-step: a new step reads when its time passes a multiple of the period."""
+        if msg.clock <= self._last_step:
+            return
+        previous, self._last_step = self._last_step.to_sec(), msg.clock
+        if self._ready and (math.floor(msg.clock.to_sec() * self.rate_hz + STEP_EPS)
+                            > math.floor(previous * self.rate_hz + STEP_EPS)):
+            self.step(msg.clock)
+
     def run(self):
-        spin_periodic(self.rate_hz, self.step)
+        if self.clock is not None:
+            rospy.spin()
+        else:
+            spin_periodic(self.rate_hz, self.step)
 
 
 def main() -> int:
