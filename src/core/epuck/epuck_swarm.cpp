@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -30,6 +31,14 @@ void check_stddev(const Eigen::Ref<const RowMatrixXd>& values, double limit, con
     throw std::invalid_argument(std::string(name) + " must be in [0, " + std::to_string(limit) +
                                 "]");
   }
+}
+
+// Whether two doubles are the same bits (unlike ==, which takes -0.0 for 0.0).
+bool same_bits(double a, double b) {
+  std::uint64_t a_bits, b_bits;
+  std::memcpy(&a_bits, &a, sizeof a);
+  std::memcpy(&b_bits, &b, sizeof b);
+  return a_bits == b_bits;
 }
 
 void check_planar_pose(double x_m, double y_m, double yaw_rad) {
@@ -253,10 +262,18 @@ void EpuckSwarm::move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& w
     robot.wheel_angle.right += robot.wheel_speed.right * dt_s;
     const Twist2 actual =
         body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m);
-    robot.pose = integrate_arc(robot.pose, actual, dt_s);
-    robot.odometry_twist =
-        body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
-    robot.odometry = integrate_arc(robot.odometry, robot.odometry_twist, dt_s);
+    // Without slip the wheels turn as commanded: odometry's twist is the same, bit for bit.
+    robot.odometry_twist = robot.slip_stddev <= 0.0 ? actual
+                           : body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
+    // Odometry that shares the heading and the twist moves along the same arc (contacts never
+    // turn a robot, so they share it until slip or set_odometry parts them).
+    const bool same_arc = same_bits(robot.odometry.yaw_rad, robot.pose.yaw_rad) &&
+                          same_bits(robot.odometry_twist.v_m_s, actual.v_m_s) &&
+                          same_bits(robot.odometry_twist.w_rad_s, actual.w_rad_s);
+    const ArcMove move = arc_move(robot.pose.yaw_rad, actual, dt_s);
+    robot.pose = apply_arc(robot.pose, move);
+    robot.odometry = same_arc ? apply_arc(robot.odometry, move)
+                              : integrate_arc(robot.odometry, robot.odometry_twist, dt_s);
   }
 }
 
