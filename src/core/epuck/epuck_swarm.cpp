@@ -110,6 +110,7 @@ void EpuckSwarm::remove_robot(int index) {
 
 void EpuckSwarm::seed_streams(Robot& robot) const {
   robot.ir_rng = Rng(derive_seed(seed_, robot.stream, kStreamIr));
+  robot.ir_draws_owed = 0;
   robot.accel_rng = Rng(derive_seed(seed_, robot.stream, kStreamAccel));
   robot.gyro_rng = Rng(derive_seed(seed_, robot.stream, kStreamGyro));
   robot.slip_rng = Rng(derive_seed(seed_, robot.stream, kStreamSlip));
@@ -209,16 +210,17 @@ void EpuckSwarm::set_odometry(int index, double x_m, double y_m, double yaw_rad)
 void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s) {
   if (!(dt_s > 0.0 && dt_s <= kMaxStep_s)) throw std::invalid_argument("dt_s must be in (0, 10]");
   check_shape(wheel_cmd_rad_s, size(), 2, "wheel_cmd");
-  // Fail before changing anything if someone removed a robot body from the world.
-  for (const Robot& robot : robots_) {
-    if (!world_.has(robot.handle)) {
-      throw UnknownHandle("robot body " + std::to_string(robot.handle) +
-                          " was removed from the world");
-    }
-  }
   // Whether anybody else changed the world since the last step: then what the last step kept
   // about it (the contact lists, what the cones may see) must be found again.
   const bool world_changed = !nearby_valid_ || world_.revision() != revision_seen_;
+  // Fail before changing anything if someone removed a robot body from the world (which
+  // changes its revision: a world that did not change still holds them all).
+  for (std::size_t i = 0; world_changed && i < robots_.size(); ++i) {
+    if (!world_.has(robots_[i].handle)) {
+      throw UnknownHandle("robot body " + std::to_string(robots_[i].handle) +
+                          " was removed from the world");
+    }
+  }
   nearby_valid_ = false;  // until this step completes
   std::vector<Pose2>& start = start_;
   start.resize(robots_.size());
@@ -238,10 +240,8 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
   find_nearby(world_changed);
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     Robot& robot = robots_[i];
-    const double yaw_rate =
-        body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m).w_rad_s;
     const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
-                        (robot.pose.y_m - start[i].y_m) / dt_s, yaw_rate);
+                        (robot.pose.y_m - start[i].y_m) / dt_s, robot.twist.w_rad_s);
     read_imu(robot, velocity, start[i].yaw_rad, dt_s);
     // The body's orientation is the robot's heading: contacts moved the body, never turned it.
     read_proximity(robot, bodies_[i].pose.orientation, nearby_.begin() + nearby_first_[i],
@@ -262,6 +262,7 @@ void EpuckSwarm::move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& w
     robot.wheel_angle.right += robot.wheel_speed.right * dt_s;
     const Twist2 actual =
         body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m);
+    robot.twist = actual;
     // Without slip the wheels turn as commanded: odometry's twist is the same, bit for bit.
     robot.odometry_twist = robot.slip_stddev <= 0.0 ? actual
                            : body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
@@ -288,9 +289,15 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
   // The velocities are chords of the previous and this step, so their difference belongs to
   // the instant between them: the start of this step, and the heading the robot had then.
   const Vec3 force = specific_force(accel_world, yaw_at_start_rad, model_.gravity_m_s2);
-  robot.accel = add_axis_noise(force + robot.accel_bias, robot.accel_stddev, robot.accel_rng);
-  robot.gyro = add_axis_noise(Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias, robot.gyro_stddev,
-                              robot.gyro_rng);
+  // An axis without noise draws nothing and adds nothing (add_axis_noise).
+  robot.accel = force + robot.accel_bias;
+  if (!robot.accel_stddev.isZero(0.0)) {
+    robot.accel = add_axis_noise(robot.accel, robot.accel_stddev, robot.accel_rng);
+  }
+  robot.gyro = Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias;
+  if (!robot.gyro_stddev.isZero(0.0)) {
+    robot.gyro = add_axis_noise(robot.gyro, robot.gyro_stddev, robot.gyro_rng);
+  }
 }
 
 // What each robot's cones may see: what lies in the box its cones can reach, widened by a
@@ -345,22 +352,36 @@ void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterato
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
     const ConeSensor& sensor = model_.sensors[k];
     SensorOutput& out = robot.sensors[k];
-    ConeReading reading;  // nothing nearby: skip all ray work
-    reading.distance_m = sensor.max_range_m;
-    if (!candidates_.empty()) {
+    if (candidates_.empty()) {  // nothing nearby: skip all ray work
+      out.handle = -1;
+      out.point_m.setZero();
+      out.normal.setZero();
+      out.clean_m = sensor.max_range_m;
+    } else {
       const Pose sensor_pose{centre + heading * sensor.position_m,
                              heading * sensor_orientations_[k]};
-      reading = cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
+      const ConeReading reading =
+          cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
+      out.handle = reading.handle;
+      out.point_m = reading.point_m;
+      out.normal = reading.normal;
+      out.clean_m = reading.handle < 0
+                        ? sensor.max_range_m
+                        : std::clamp(reading.distance_m, sensor.min_range_m, sensor.max_range_m);
     }
-    out.handle = reading.handle;
-    out.point_m = reading.point_m;
-    out.normal = reading.normal;
-    out.clean_m = reading.handle < 0
-                      ? sensor.max_range_m
-                      : std::clamp(reading.distance_m, sensor.min_range_m, sensor.max_range_m);
+    const RangeNoise& noise = robot.ir_noise[k];
+    if (noise.probability <= 0.0) {
+      // The draw could not make the reading noisy (it is in (0, 1]): it is owed instead, and
+      // made before the next draw that can, so every later draw is the one it would have been.
+      ++robot.ir_draws_owed;
+      out.noisy_m = std::clamp(out.clean_m, sensor.min_range_m, sensor.max_range_m);
+      continue;
+    }
+    robot.ir_rng.discard(robot.ir_draws_owed);
+    robot.ir_draws_owed = 0;
     bool applied = false;
-    out.noisy_m = apply_range_noise(out.clean_m, sensor.min_range_m, sensor.max_range_m,
-                                    robot.ir_noise[k], robot.ir_rng, applied);
+    out.noisy_m = apply_range_noise(out.clean_m, sensor.min_range_m, sensor.max_range_m, noise,
+                                    robot.ir_rng, applied);
   }
 }
 
