@@ -62,6 +62,28 @@ def test_reset_and_rerun_is_bit_identical():
     assert all(np.array_equal(a, b) for a, b in zip(first, second))
 
 
+def test_ir_noise_turned_on_mid_run_draws_as_if_it_had_drawn_all_along():
+    # With probability 0 the step skips the IR draws and makes them up before the next one
+    # that counts; a probability too small ever to apply draws every time: the same stream.
+    def run(probability_before):
+        swarm = arena_swarm(0.2, 11)
+        n = swarm.size
+        commands = np.random.default_rng(8).uniform(-7.0, 7.0, (60, n, 2))
+        swarm.set_ir_noise(np.full((n, 8), probability_before), np.zeros((n, 8)),
+                           np.zeros((n, 8)))
+        for command in commands[:30]:
+            swarm.step(DT, command)
+        swarm.set_ir_noise(np.full((n, 8), 0.5), np.full((n, 8), 0.002),
+                           np.full((n, 8), 0.001))
+        for command in commands[30:]:
+            swarm.step(DT, command)
+        return swarm.ranges, swarm.ranges_clean
+
+    (skipped, clean), (drawn, _) = run(0.0), run(1e-300)
+    assert np.array_equal(skipped, drawn)
+    assert not np.array_equal(skipped, clean)  # the draws after the switch made some noisy
+
+
 def test_different_seed_gives_different_noisy_ranges():
     assert not np.array_equal(noisy_run(7, 50).ranges, noisy_run(8, 50).ranges)
 

@@ -58,6 +58,26 @@ Twist2 body_twist(const WheelPair& speeds_rad_s, double wheel_radius_m,
 /// The pose after moving with a constant twist for dt, along the exact arc; yaw wrapped.
 Pose2 integrate_arc(const Pose2& pose, const Twist2& twist, double dt_s);
 
+/// What integrate_arc computes from the heading alone, not the position: the chord's length,
+/// its direction's cosine and sine, and the wrapped yaw at the end. Two poses with the same
+/// heading and twist (ground truth and odometry without slip) share one; applied with
+/// apply_arc, it gives integrate_arc's pose bit for bit.
+struct ArcMove {
+  double chord_m = 0.0;
+  double cos_heading = 1.0;
+  double sin_heading = 0.0;
+  double yaw_rad = 0.0;
+};
+
+/// The arc of integrate_arc from heading @p yaw_rad.
+ArcMove arc_move(double yaw_rad, const Twist2& twist, double dt_s);
+
+/// The pose at the end of @p move from @p pose (whose yaw the move was made for).
+inline Pose2 apply_arc(const Pose2& pose, const ArcMove& move) {
+  return {pose.x_m + move.chord_m * move.cos_heading, pose.y_m + move.chord_m * move.sin_heading,
+          move.yaw_rad};
+}
+
 /// An angle wrapped into [-π, π).
 double wrap_angle(double angle_rad);
 

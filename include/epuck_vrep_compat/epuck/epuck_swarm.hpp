@@ -160,6 +160,7 @@ class EpuckSwarm {
     Pose2 pose;
     Pose2 odometry;
     Twist2 odometry_twist;
+    Twist2 twist;                  // the body's, from wheel_speed (the last step's)
     Vec3 velocity = Vec3::Zero();  // vx, vy, yaw rate
     bool has_velocity = false;     // false until a step after add or teleport
     WheelPair wheel_speed;
@@ -175,6 +176,7 @@ class EpuckSwarm {
     double slip_stddev = 0.0;
     bool in_contact = false;
     Rng ir_rng, accel_rng, gyro_rng, slip_rng;
+    std::uint64_t ir_draws_owed = 0;  // IR draws skipped since ir_rng was seeded (see step)
   };
 
   Robot& robot_at(int index);

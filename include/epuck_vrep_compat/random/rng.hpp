@@ -37,6 +37,11 @@ class Rng {
     return result;
   }
 
+  /// Skips @p count raw outputs: the state next_u64 would leave after as many calls.
+  void discard(std::uint64_t count) {
+    for (; count > 0; --count) next_u64();
+  }
+
   /// Uniform in (0, 1]: the top 53 bits plus one, times 2^-53. Never 0, so log(u) is finite.
   /// (Defined here, as next_u64 is, so that the per-sensor draws of a step are inlined.)
   double uniform() { return static_cast<double>((next_u64() >> 11) + 1) * 0x1.0p-53; }

@@ -102,6 +102,9 @@ class CollisionWorld {
 
   /// Moves an object (the quaternion is normalised). Throws UnknownHandle.
   void set_pose(int handle, const Pose& pose);
+  /// Moves the object @p body (this world's, from body()) as set_pose(handle, pose) does,
+  /// without looking its handle up (the core's own callers that keep Body pointers).
+  void set_pose(const Body& body, const Pose& pose);
   /// Moves many objects at once (a step's robot links), all or none: every handle and pose is
   /// checked before anything moves. Throws std::invalid_argument for different lengths or a bad
   /// pose (naming its index), UnknownHandle for an unknown handle.

@@ -36,12 +36,15 @@ Twist2 body_twist(const WheelPair& speeds_rad_s, double wheel_radius_m,
           wheel_radius_m * (speeds_rad_s.right - speeds_rad_s.left) / wheel_separation_m};
 }
 
-Pose2 integrate_arc(const Pose2& pose, const Twist2& twist, double dt_s) {
+ArcMove arc_move(double yaw_rad, const Twist2& twist, double dt_s) {
   const double half_turn = 0.5 * twist.w_rad_s * dt_s;
-  const double chord = twist.v_m_s * dt_s * sinc(half_turn);
-  const double heading = pose.yaw_rad + half_turn;
-  return {pose.x_m + chord * std::cos(heading), pose.y_m + chord * std::sin(heading),
-          wrap_angle(pose.yaw_rad + 2.0 * half_turn)};
+  const double heading = yaw_rad + half_turn;
+  return {twist.v_m_s * dt_s * sinc(half_turn), std::cos(heading), std::sin(heading),
+          wrap_angle(yaw_rad + 2.0 * half_turn)};
+}
+
+Pose2 integrate_arc(const Pose2& pose, const Twist2& twist, double dt_s) {
+  return apply_arc(pose, arc_move(pose.yaw_rad, twist, dt_s));
 }
 
 double wrap_angle(double angle_rad) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -20,8 +21,13 @@ enum Stream : std::uint64_t { kStreamIr = 1, kStreamAccel = 2, kStreamGyro = 3, 
 // The IR cones see everything a robot can bump into, never the floor under it.
 constexpr int kSensorMask = kGroupStatic | kGroupRobot | kGroupDynamic;
 // How far beyond its cones' reach a robot's list of what they may see extends; the lists
-// last until some robot has moved half of it.
+// last until some robot has moved half of it. Among many robots one of them soon has, and
+// every list is built again: there a wider margin, fewer rebuilds (each a box query and a
+// broadphase update of every moved body) for longer lists (a cheap distance check each);
+// counted by callgrind, the wider margin costs more in worlds of 10 robots or fewer.
 constexpr double kNearbyMargin_m = 0.03;
+constexpr double kCrowdNearbyMargin_m = 0.06;
+constexpr std::size_t kCrowd = 100;  // robots in a world from which the wider margin is used
 
 // Standard deviations must be in [0, limit]: a huge finite one (1e308) would carry inf into
 // the pose or the readings as surely as inf itself.
@@ -30,6 +36,14 @@ void check_stddev(const Eigen::Ref<const RowMatrixXd>& values, double limit, con
     throw std::invalid_argument(std::string(name) + " must be in [0, " + std::to_string(limit) +
                                 "]");
   }
+}
+
+// Whether two doubles are the same bits (unlike ==, which takes -0.0 for 0.0).
+bool same_bits(double a, double b) {
+  std::uint64_t a_bits, b_bits;
+  std::memcpy(&a_bits, &a, sizeof a);
+  std::memcpy(&b_bits, &b, sizeof b);
+  return a_bits == b_bits;
 }
 
 void check_planar_pose(double x_m, double y_m, double yaw_rad) {
@@ -101,6 +115,7 @@ void EpuckSwarm::remove_robot(int index) {
 
 void EpuckSwarm::seed_streams(Robot& robot) const {
   robot.ir_rng = Rng(derive_seed(seed_, robot.stream, kStreamIr));
+  robot.ir_draws_owed = 0;
   robot.accel_rng = Rng(derive_seed(seed_, robot.stream, kStreamAccel));
   robot.gyro_rng = Rng(derive_seed(seed_, robot.stream, kStreamGyro));
   robot.slip_rng = Rng(derive_seed(seed_, robot.stream, kStreamSlip));
@@ -200,16 +215,17 @@ void EpuckSwarm::set_odometry(int index, double x_m, double y_m, double yaw_rad)
 void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s) {
   if (!(dt_s > 0.0 && dt_s <= kMaxStep_s)) throw std::invalid_argument("dt_s must be in (0, 10]");
   check_shape(wheel_cmd_rad_s, size(), 2, "wheel_cmd");
-  // Fail before changing anything if someone removed a robot body from the world.
-  for (const Robot& robot : robots_) {
-    if (!world_.has(robot.handle)) {
-      throw UnknownHandle("robot body " + std::to_string(robot.handle) +
-                          " was removed from the world");
-    }
-  }
   // Whether anybody else changed the world since the last step: then what the last step kept
   // about it (the contact lists, what the cones may see) must be found again.
   const bool world_changed = !nearby_valid_ || world_.revision() != revision_seen_;
+  // Fail before changing anything if someone removed a robot body from the world (which
+  // changes its revision: a world that did not change still holds them all).
+  for (std::size_t i = 0; world_changed && i < robots_.size(); ++i) {
+    if (!world_.has(robots_[i].handle)) {
+      throw UnknownHandle("robot body " + std::to_string(robots_[i].handle) +
+                          " was removed from the world");
+    }
+  }
   nearby_valid_ = false;  // until this step completes
   std::vector<Pose2>& start = start_;
   start.resize(robots_.size());
@@ -229,10 +245,8 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
   find_nearby(world_changed);
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     Robot& robot = robots_[i];
-    const double yaw_rate =
-        body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m).w_rad_s;
     const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
-                        (robot.pose.y_m - start[i].y_m) / dt_s, yaw_rate);
+                        (robot.pose.y_m - start[i].y_m) / dt_s, robot.twist.w_rad_s);
     read_imu(robot, velocity, start[i].yaw_rad, dt_s);
     // The body's orientation is the robot's heading: contacts moved the body, never turned it.
     read_proximity(robot, bodies_[i].pose.orientation, nearby_.begin() + nearby_first_[i],
@@ -253,10 +267,19 @@ void EpuckSwarm::move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& w
     robot.wheel_angle.right += robot.wheel_speed.right * dt_s;
     const Twist2 actual =
         body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m);
-    robot.pose = integrate_arc(robot.pose, actual, dt_s);
-    robot.odometry_twist =
-        body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
-    robot.odometry = integrate_arc(robot.odometry, robot.odometry_twist, dt_s);
+    robot.twist = actual;
+    // Without slip the wheels turn as commanded: odometry's twist is the same, bit for bit.
+    robot.odometry_twist = robot.slip_stddev <= 0.0 ? actual
+                           : body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
+    // Odometry that shares the heading and the twist moves along the same arc (contacts never
+    // turn a robot, so they share it until slip or set_odometry parts them).
+    const bool same_arc = same_bits(robot.odometry.yaw_rad, robot.pose.yaw_rad) &&
+                          same_bits(robot.odometry_twist.v_m_s, actual.v_m_s) &&
+                          same_bits(robot.odometry_twist.w_rad_s, actual.w_rad_s);
+    const ArcMove move = arc_move(robot.pose.yaw_rad, actual, dt_s);
+    robot.pose = apply_arc(robot.pose, move);
+    robot.odometry = same_arc ? apply_arc(robot.odometry, move)
+                              : integrate_arc(robot.odometry, robot.odometry_twist, dt_s);
   }
 }
 
@@ -271,9 +294,15 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
   // The velocities are chords of the previous and this step, so their difference belongs to
   // the instant between them: the start of this step, and the heading the robot had then.
   const Vec3 force = specific_force(accel_world, yaw_at_start_rad, model_.gravity_m_s2);
-  robot.accel = add_axis_noise(force + robot.accel_bias, robot.accel_stddev, robot.accel_rng);
-  robot.gyro = add_axis_noise(Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias, robot.gyro_stddev,
-                              robot.gyro_rng);
+  // An axis without noise draws nothing and adds nothing (add_axis_noise).
+  robot.accel = force + robot.accel_bias;
+  if (!robot.accel_stddev.isZero(0.0)) {
+    robot.accel = add_axis_noise(robot.accel, robot.accel_stddev, robot.accel_rng);
+  }
+  robot.gyro = Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias;
+  if (!robot.gyro_stddev.isZero(0.0)) {
+    robot.gyro = add_axis_noise(robot.gyro, robot.gyro_stddev, robot.gyro_rng);
+  }
 }
 
 // What each robot's cones may see: what lies in the box its cones can reach, widened by a
@@ -284,14 +313,15 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
 // candidates change no reading (see ConeReader::read).
 void EpuckSwarm::find_nearby(bool world_changed) {
   bool rebuild = world_changed || nearby_anchor_m_.size() != robots_.size();
-  const double limit_squared = 0.25 * kNearbyMargin_m * kNearbyMargin_m;
+  const double margin_m = robots_.size() > kCrowd ? kCrowdNearbyMargin_m : kNearbyMargin_m;
+  const double limit_squared = 0.25 * margin_m * margin_m;
   for (std::size_t i = 0; !rebuild && i < robots_.size(); ++i) {
     const Eigen::Vector2d drift(robots_[i].pose.x_m - nearby_anchor_m_[i].x(),
                                 robots_[i].pose.y_m - nearby_anchor_m_[i].y());
     rebuild = drift.squaredNorm() > limit_squared;
   }
   if (!rebuild) return;
-  const double reach_m = sensor_reach_m_ + kNearbyMargin_m;
+  const double reach_m = sensor_reach_m_ + margin_m;
   std::vector<BoxQuery> boxes;
   boxes.reserve(robots_.size());
   nearby_anchor_m_.resize(robots_.size());
@@ -328,22 +358,36 @@ void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterato
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
     const ConeSensor& sensor = model_.sensors[k];
     SensorOutput& out = robot.sensors[k];
-    ConeReading reading;  // nothing nearby: skip all ray work
-    reading.distance_m = sensor.max_range_m;
-    if (!candidates_.empty()) {
+    if (candidates_.empty()) {  // nothing nearby: skip all ray work
+      out.handle = -1;
+      out.point_m.setZero();
+      out.normal.setZero();
+      out.clean_m = sensor.max_range_m;
+    } else {
       const Pose sensor_pose{centre + heading * sensor.position_m,
                              heading * sensor_orientations_[k]};
-      reading = cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
+      const ConeReading reading =
+          cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
+      out.handle = reading.handle;
+      out.point_m = reading.point_m;
+      out.normal = reading.normal;
+      out.clean_m = reading.handle < 0
+                        ? sensor.max_range_m
+                        : std::clamp(reading.distance_m, sensor.min_range_m, sensor.max_range_m);
     }
-    out.handle = reading.handle;
-    out.point_m = reading.point_m;
-    out.normal = reading.normal;
-    out.clean_m = reading.handle < 0
-                      ? sensor.max_range_m
-                      : std::clamp(reading.distance_m, sensor.min_range_m, sensor.max_range_m);
+    const RangeNoise& noise = robot.ir_noise[k];
+    if (noise.probability <= 0.0) {
+      // The draw could not make the reading noisy (it is in (0, 1]): it is owed instead, and
+      // made before the next draw that can, so every later draw is the one it would have been.
+      ++robot.ir_draws_owed;
+      out.noisy_m = std::clamp(out.clean_m, sensor.min_range_m, sensor.max_range_m);
+      continue;
+    }
+    robot.ir_rng.discard(robot.ir_draws_owed);
+    robot.ir_draws_owed = 0;
     bool applied = false;
-    out.noisy_m = apply_range_noise(out.clean_m, sensor.min_range_m, sensor.max_range_m,
-                                    robot.ir_noise[k], robot.ir_rng, applied);
+    out.noisy_m = apply_range_noise(out.clean_m, sensor.min_range_m, sensor.max_range_m, noise,
+                                    robot.ir_rng, applied);
   }
 }
 

@@ -158,8 +158,14 @@ class ContactFinder {
       same_world = state_.handles[i] == bodies[i].handle;
     }
     state_.valid = false;  // until this call completes
-    for (const MovableBody& body : bodies) {
-      world.set_pose(body.handle, body.pose);  // UnknownHandle for a body the world lacks
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      // The same world still holds the bodies of the lists; else UnknownHandle for a body the
+      // world lacks.
+      if (same_world) {
+        world.set_pose(*state_.self[i], bodies[i].pose);
+      } else {
+        world.set_pose(bodies[i].handle, bodies[i].pose);
+      }
     }
     if (!same_world) {
       state_.handles.clear();
@@ -242,7 +248,7 @@ class ContactFinder {
   // Hands the moved bodies' poses to the world.
   void sync() {
     for (const std::size_t i : moved_) {
-      world_.set_pose(bodies_[i].handle, bodies_[i].pose);
+      world_.set_pose(*state_.self[i], bodies_[i].pose);
       dirty_[i] = 0;
     }
     moved_.clear();
@@ -378,8 +384,9 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
                             const ContactSettings& settings, ContactCache* cache,
                             std::vector<char>* touched) {
   if (touched != nullptr) touched->assign(bodies.size(), 0);
-  ContactCache::State this_call;
-  ContactCache::State& state = cache != nullptr ? *cache->state_ : this_call;
+  std::optional<ContactCache::State> this_call;  // lists for this call alone, without a cache
+  if (cache == nullptr) this_call.emplace();
+  ContactCache::State& state = cache != nullptr ? *cache->state_ : *this_call;
   ContactFinder finder(world, bodies, state);
   std::vector<char>& active = state.scratch.active;
   std::vector<char>& next_active = state.scratch.next_active;

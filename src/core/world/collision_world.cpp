@@ -156,10 +156,12 @@ Body& CollisionWorld::find(int handle) const {
   return *it->second;
 }
 
-void CollisionWorld::set_pose(int handle, const Pose& pose) {
-  Body& body = find(handle);
-  body.object->setWorldTransform(to_bt(checked_pose(pose)));
-  mark_moved(body);
+void CollisionWorld::set_pose(int handle, const Pose& pose) { set_pose(find(handle), pose); }
+
+void CollisionWorld::set_pose(const Body& body, const Pose& pose) {
+  Body& moved = const_cast<Body&>(body);  // one of bodies_, which the world owns and changes
+  moved.object->setWorldTransform(to_bt(checked_pose(pose)));
+  mark_moved(moved);
   ++revision_;
 }
 

@@ -302,9 +302,12 @@ void overlap_query_batch(const CollisionWorld& world, const std::vector<BoxQuery
     highest = highest.cwiseMax(query.max_m);
     widest_m = std::max(widest_m, (query.max_m - query.min_m).head<2>().maxCoeff());
   }
-  // Kept per thread from one call to the next: a step's queries allocate nothing.
-  thread_local std::vector<const Body*> found;
-  thread_local std::vector<ObjectBox> objects;
+  // Kept per thread from one call to the next: a step's queries allocate nothing. (Reached
+  // through references: each use of a thread_local itself looks its address up.)
+  thread_local std::vector<const Body*> found_kept;
+  thread_local std::vector<ObjectBox> objects_kept;
+  std::vector<const Body*>& found = found_kept;
+  std::vector<ObjectBox>& objects = objects_kept;
   found.clear();
   objects.clear();
   world.overlap_query(lowest, highest, mask, -1, found);
