@@ -16,11 +16,6 @@ void check_non_negative(double value, const char* name) {
   }
 }
 
-double sigma(const DepthNoiseSpec& spec, double depth_m) {
-  const double offset = depth_m - spec.c_m;
-  return spec.a_m + spec.b_per_m * offset * offset;
-}
-
 }  // namespace
 
 DepthNoise::DepthNoise(const DepthNoiseSpec& spec, std::uint64_t seed) : spec_(spec), rng_(seed) {
@@ -30,23 +25,23 @@ DepthNoise::DepthNoise(const DepthNoiseSpec& spec, std::uint64_t seed) : spec_(s
   if (!std::isfinite(spec.c_m)) throw std::invalid_argument("c_m must be finite");
 }
 
-double DepthNoise::sigma_m(double depth_m) const { return sigma(spec_, depth_m); }
+double DepthNoise::sigma_m(double depth_m) const {
+  const double offset = depth_m - spec_.c_m;
+  return spec_.a_m + spec_.b_per_m * offset * offset;
+}
 
 void DepthNoise::apply(const float* depth_m, float* out_m, std::size_t count, double near_m,
                        double far_m) {
   if (!(std::isfinite(near_m) && std::isfinite(far_m) && near_m >= 0.0 && near_m < far_m)) {
     throw std::invalid_argument("need 0 <= near_m < far_m, both finite");
   }
-  bool bad = false;  // no early exit: a loop the compiler can vectorise
-  for (std::size_t i = 0; i < count; ++i) bad |= !(depth_m[i] >= 0.0f);
-  if (bad) throw std::invalid_argument("depth must hold values >= 0 (+inf allowed), no NaN");
-  // A local copy: the draws' calls could change *this as far as the compiler knows, which
-  // would reload the spec at every pixel.
-  const DepthNoiseSpec spec = spec_;
-  const double step = spec.inverse_depth_step_per_m;
+  if (std::any_of(depth_m, depth_m + count, [](float z) { return !(z >= 0.0f); })) {
+    throw std::invalid_argument("depth must hold values >= 0 (+inf allowed), no NaN");
+  }
+  const double step = spec_.inverse_depth_step_per_m;
   for (std::size_t i = 0; i < count; ++i) {
     const double z = depth_m[i];
-    double noisy = z + sigma(spec, z) * ziggurat_normal(rng_);
+    double noisy = z + sigma_m(z) * ziggurat_normal(rng_);
     if (step > 0.0 && noisy > 0.0) noisy = 1.0 / (step * std::round(1.0 / (step * noisy)));
     out_m[i] = static_cast<float>(z >= far_m ? far_m : std::clamp(noisy, near_m, far_m));
   }
