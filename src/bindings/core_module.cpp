@@ -1,6 +1,7 @@
 // epuck_vrep_compat._core: a thin pybind11 shim over the C++ core (include/epuck_vrep_compat).
 // It converts arguments, names the bad ones, releases the GIL around heavy work and turns C++
 // exceptions into Python ones; all behaviour lives in the core.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -25,7 +26,6 @@ using namespace py::literals;
 namespace evc {
 namespace {
 
-using bindings::array_copy;
 using bindings::MatrixRef;
 using bindings::pose_of;
 using bindings::vec3;
@@ -38,6 +38,32 @@ py::tuple pose_tuple(const Pose& pose) {
 
 py::array per_sensor_3d(const RowMatrixXd& rows, const EpuckSwarm& swarm) {
   return py::array(py::cast(rows)).reshape({swarm.size(), swarm.sensor_count(), 3});
+}
+
+// render_into straight into new numpy arrays (no copy): (rgb or None, depth or None).
+py::tuple render_arrays(const CollisionWorld& w, const VectorRef& position,
+                        const VectorRef& quaternion, const CameraSpec& spec, int ignore_handle,
+                        int mask, bool want_rgb, bool want_depth) {
+  const Pose pose = pose_of(position, quaternion);
+  const py::ssize_t height = std::max(spec.height, 0), width = std::max(spec.width, 0);
+  py::object rgb = py::none(), depth = py::none();
+  std::uint8_t* rgb_out = nullptr;
+  float* depth_out = nullptr;
+  if (want_rgb) {
+    py::array_t<std::uint8_t> array({height, width, py::ssize_t{3}});
+    rgb_out = array.mutable_data();
+    rgb = std::move(array);
+  }
+  if (want_depth) {
+    py::array_t<float> array({height, width});
+    depth_out = array.mutable_data();
+    depth = std::move(array);
+  }
+  {
+    py::gil_scoped_release release;
+    render_into(w, pose, spec, ignore_handle, mask, rgb_out, depth_out);
+  }
+  return py::make_tuple(rgb, depth);
 }
 
 void bind_noise(py::module_& m) {
@@ -143,21 +169,18 @@ void bind_world(py::module_& m) {
           "render",
           [](const CollisionWorld& w, const VectorRef& position, const VectorRef& quaternion,
              int width, int height, double vertical_fov_rad, double near_m, double far_m,
-             int ignore_handle, int mask) {
-            const Pose pose = pose_of(position, quaternion);
-            const CameraSpec spec{width, height, vertical_fov_rad, near_m, far_m};
-            CameraImage image;
-            {
-              py::gil_scoped_release release;
-              image = render(w, pose, spec, ignore_handle, mask);
-            }
-            return py::make_tuple(array_copy(image.rgb, {height, width, 3}),
-                                  array_copy(image.depth_m, {height, width}));
+             int ignore_handle, int mask, bool rgb, bool depth) {
+            return render_arrays(w, position, quaternion,
+                                 CameraSpec{width, height, vertical_fov_rad, near_m, far_m},
+                                 ignore_handle, mask, rgb, depth);
           },
           "position"_a, "quaternion"_a, "width"_a, "height"_a, "vertical_fov_rad"_a, "near_m"_a,
-          "far_m"_a, "ignore_handle"_a = -1, "mask"_a = int(kGroupAll),
+          "far_m"_a, "ignore_handle"_a = -1, "mask"_a = int(kGroupAll), "rgb"_a = true,
+          "depth"_a = true,
           "Ray-cast pinhole camera (x forward, y left, z up; row 0 at the top). Returns "
-          "(rgb uint8 (H, W, 3), depth float32 (H, W) along the optical axis, far_m for none).")
+          "(rgb uint8 (H, W, 3), depth float32 (H, W) along the optical axis, far_m for none); "
+          "rgb=False or depth=False gives None for that image and skips its work (no shading "
+          "for a depth image alone), the other image bit for bit the same.")
       .def(
           "render_rgb_batch",
           [](const CollisionWorld& w, const MatrixRef& positions, const MatrixRef& quaternions,

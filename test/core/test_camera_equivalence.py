@@ -173,3 +173,21 @@ def test_rendering_is_deterministic(world):
     first = world.render(position, quaternion, 64, 48, 1.0, 0.01, 3.0)
     second = world.render(position, quaternion, 64, 48, 1.0, 0.01, 3.0)
     assert np.array_equal(first[0], second[0]) and np.array_equal(first[1], second[1])
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+def test_depth_alone_and_colour_alone_are_renders_bit_for_bit(world, seed):
+    """rgb=False skips the shading, depth=False the depth: the image asked for is render's."""
+    random_scene(world, seed)
+    cameras = free_cameras(world, seed, 6)
+    cameras.append(((0.0, 0.0, -0.005), IDENTITY))     # inside the floor: every pixel at near_m
+    for k, (position, quaternion) in enumerate(cameras):
+        arguments = (position, quaternion, 96, 64, 1.0, 0.01, 2.5, -1,
+                     (_core.GROUP_ALL, _core.GROUP_STATIC)[k % 2])
+        rgb, depth = world.render(*arguments)
+        no_rgb, depth_alone = world.render(*arguments, rgb=False)
+        rgb_alone, no_depth = world.render(*arguments, depth=False)
+        assert no_rgb is None and no_depth is None
+        assert depth_alone.dtype == np.float32 and np.array_equal(depth_alone, depth)
+        assert rgb_alone.shape == (64, 96, 3) and np.array_equal(rgb_alone, rgb)
+        assert world.render(*arguments, rgb=False, depth=False) == (None, None)

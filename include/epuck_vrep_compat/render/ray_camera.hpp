@@ -56,6 +56,13 @@ struct CameraImage {
 CameraImage render(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
                    int ignore_handle = -1, int mask = kGroupAll);
 
+/// render() into the caller's buffers: @p rgb (height × width × 3 bytes) and @p depth_m
+/// (height × width), either of them null when not wanted. What is not asked for is not
+/// computed (a depth image alone skips the shading; a colour image alone the depth's clamping),
+/// and what is asked for is bit for bit render()'s. Throws as render() does.
+void render_into(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
+                 int ignore_handle, int mask, std::uint8_t* rgb, float* depth_m);
+
 /// Renders the colour image of each of @p camera_poses, image k not seeing
 /// @p ignore_handles[k], all with @p spec, into @p rgb_out (poses × height × width × 3 bytes,
 /// image after image), on up to @p threads threads (the world must not change meanwhile).

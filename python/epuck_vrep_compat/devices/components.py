@@ -65,12 +65,25 @@ class VisionSensor:
         """The object the camera does not see (the robot carrying it), or -1."""
         return self._ignore
 
-    def render(self):
-        """(rgb uint8 (H, W, 3) top row first, depth float32 (H, W) metres along the axis)."""
+    def view(self):
+        """The core renderer's arguments for this camera now: pose, intrinsics, clipping,
+        ignore handle (and, for a sensor that has one, its render mask)."""
         position, quat = self.camera_pose()
         s = self.spec
-        return self._sim.world.render(position, quat, s.width, s.height, s.vertical_fov_rad,
-                                      s.near_m, s.far_m, self._ignore)
+        return (position, quat, s.width, s.height, s.vertical_fov_rad, s.near_m, s.far_m,
+                self._ignore)
+
+    def render(self):
+        """(rgb uint8 (H, W, 3) top row first, depth float32 (H, W) metres along the axis)."""
+        return self._sim.world.render(*self.view())
+
+    def render_depth(self):
+        """render()'s depth alone, bit for bit; cheaper (no colours shaded)."""
+        return self._sim.world.render(*self.view(), rgb=False)[1]
+
+    def render_rgb(self):
+        """render()'s colour image alone, bit for bit."""
+        return self._sim.world.render(*self.view(), depth=False)[0]
 
 
 __all__ = ["VISION_TO_CAMERA", "CameraSpec", "ComponentError", "VisionSensor", "wrap_angle"]

@@ -64,7 +64,7 @@ class VrepDevices:
 
     def vision_image(self, handle: int, mono: bool):
         """Image rows top first (ROS order): rgb (H, W, 3) or grey (H, W) = (r + g + b) / 3."""
-        rgb, _ = self.vision(handle).render()
+        rgb = self.vision(handle).render_rgb()
         if mono:
             return (rgb.astype(np.uint16).sum(axis=2) // 3).astype(np.uint8)
         return rgb
@@ -73,8 +73,8 @@ class VrepDevices:
         """V-REP's depth buffer: (W, H), values 0..1 between the clipping planes, first row =
         bottom of the image (V-REP's order)."""
         sensor = self.vision(handle)
-        _, depth = sensor.render()
-        return sensor.resolution, _normalised_depth(sensor.spec, depth)[::-1].astype(np.float32)
+        depth = sensor.render_depth()
+        return sensor.resolution, _normalised_depth(sensor.spec, depth[::-1], np.float32)
 
     def read_vision_sensor(self, handle: int):
         """simReadVisionSensor: (detection state, auxiliary packets). Our sensors have V-REP's
@@ -106,7 +106,12 @@ class VrepDevices:
         raise VrepError(f"distance object {handle} does not exist (the scene defines none)")
 
 
-def _normalised_depth(spec, depth_m):
-    """Depth along the axis [m] to V-REP's 0..1 between the near and far clipping planes."""
-    normalised = (depth_m.astype(np.float64) - spec.near_m) / (spec.far_m - spec.near_m)
-    return np.clip(normalised, 0.0, 1.0)
+def _normalised_depth(spec, depth_m, dtype=np.float64):
+    """Depth along the axis [m] to V-REP's 0..1 between the near and far clipping planes,
+    computed in float64, then given as ``dtype``. In place on one float64 copy: a 640 x 480
+    buffer's temporaries cost more than the arithmetic."""
+    normalised = depth_m.astype(np.float64)
+    normalised -= spec.near_m
+    normalised /= spec.far_m - spec.near_m
+    out = normalised if dtype == np.float64 else np.empty(normalised.shape, dtype)
+    return np.clip(normalised, 0.0, 1.0, out=out)

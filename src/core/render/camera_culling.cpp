@@ -4,11 +4,14 @@
 //    the camera, base at depth far_m).
 // 2. Bounding spheres against the pyramid's six planes drop most of the rest.
 // 3. Each survivor's box (a cylinder's or sphere's enclosing box) is projected into the image.
-//    Only its part at depth >= d / max_ray_length can be hit, d being the camera's distance to
-//    the object, because a hit at depth s on a ray of length L lies s L >= d away. That part is a
-//    convex polytope whose vertices are the box corners beyond that depth and the points where
-//    box edges cross it; central projection keeps convexity, so the pixel rectangle around the
-//    projected vertices holds every pixel whose ray can meet the object.
+//    Only its part at depths from d / max_ray_length to far_m can be hit, d being the camera's
+//    distance to the object, because a hit at depth s on a ray of length L lies s L >= d away,
+//    and no pixel keeps a hit beyond far_m. That part is a convex polytope whose vertices are the
+//    box corners between those depths and the points where box edges cross either; central
+//    projection keeps convexity, so the pixel rectangle around the projected vertices holds
+//    every pixel whose ray can meet the object within far_m. (A wall reaching past far_m costs
+//    only the pixels of its part within it: before the far cut, a wall across the room had every
+//    pixel beyond far_m test it.)
 // Every bound is conservative (padded by a pixel or a relative 1e-9): culling only saves work,
 // the exact per-pixel intersection decides.
 #include "camera_culling.hpp"
@@ -26,6 +29,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMarginPx = 1.0;       // added around every pixel rectangle
 constexpr double kShrink = 1.0 - 1e-9;  // applied to every lower bound on a depth
+constexpr double kGrow = 1.0 + 1e-9;    // and to every upper bound
 
 // The view pyramid in the camera frame: four side planes through the camera, normals pointing
 // in, and the base x = far_m.
@@ -102,19 +106,23 @@ bool strictly_inside(const Primitive& primitive, const btVector3& point) {
 }
 
 // Extent of the part of a box (camera-frame corners, corner k has bit i set for +half_i) at
-// depth >= min_depth_m > 0.
-Extent front_extent(const btVector3 (&corners)[8], double min_depth_m) {
+// depths in [min_depth_m, max_depth_m], 0 < min_depth_m < max_depth_m. Its vertices are the
+// corners in that slab and the points where box edges cross either of its planes.
+Extent slab_extent(const btVector3 (&corners)[8], double min_depth_m, double max_depth_m) {
   Extent extent;
   for (int k = 0; k < 8; ++k) {
-    if (corners[k].x() >= min_depth_m) extent.add(corners[k]);
+    const double x = corners[k].x();
+    if (x >= min_depth_m && x <= max_depth_m) extent.add(corners[k]);
     for (int bit = 1; bit < 8; bit <<= 1) {
       if ((k & bit) != 0) continue;
       const btVector3& a = corners[k];
       const btVector3& b = corners[k | bit];
-      if ((a.x() < min_depth_m) == (b.x() < min_depth_m)) continue;
-      btVector3 crossing = a.lerp(b, (min_depth_m - a.x()) / (b.x() - a.x()));
-      crossing.setX(min_depth_m);  // on the plane by construction; keeps x > 0 despite rounding
-      extent.add(crossing);
+      for (const double plane : {min_depth_m, max_depth_m}) {
+        if ((a.x() < plane) == (b.x() < plane)) continue;
+        btVector3 crossing = a.lerp(b, (plane - a.x()) / (b.x() - a.x()));
+        crossing.setX(plane);  // on the plane by construction; keeps x > 0 despite rounding
+        extent.add(crossing);
+      }
     }
   }
   return extent;
@@ -205,10 +213,11 @@ bool bound_in_image(const Body& body, const CameraRays& rays, const CameraSpec& 
       corners[k] += ((k >> axis) & 1) ? axes[axis] : -axes[axis];
     }
   }
-  const Extent extent = front_extent(corners, min_depth_m);
+  // No pixel takes a hit beyond far_m: the part beyond it cannot be seen.
+  if (min_depth_m > spec.far_m) return false;
+  const Extent extent = slab_extent(corners, min_depth_m, spec.far_m * kGrow);
   if (extent.empty()) return false;
   target.min_depth_m = extent.min_depth_m * kShrink;
-  if (target.min_depth_m > spec.far_m) return false;
   target.col_begin = first_pixel(extent.min_u, rays.focal_px, spec.width);
   target.col_end = end_pixel(extent.max_u, rays.focal_px, spec.width);
   target.row_begin = first_pixel(extent.min_v, rays.focal_px, spec.height);

@@ -227,21 +227,24 @@ class AnyHit {
 // into a table: 0 is the background, k + 1 target k) and shade (ambient + diffuse |n · L|; 1 for
 // the background, whose colour is not shaded). Kept per thread between images: allocating it
 // afresh (page faults on some 400 kB) cost about half as much as rendering 160 x 120.
+// The shade is kept only when the colour image is asked for (kShade).
 struct DepthBuffer {
   std::vector<double> depth_m;
   std::vector<int> colour;
   std::vector<double> shade;
 
-  void reset(std::size_t pixels, double far_m) {
+  void reset(std::size_t pixels, double far_m, bool shaded) {
     depth_m.assign(pixels, far_m);
     colour.assign(pixels, 0);
-    shade.assign(pixels, 1.0);
+    if (shaded) shade.assign(pixels, 1.0);
   }
 };
 
 // Tests a target's pixel rectangle. As in CollisionWorld::ray_cast, a hit replaces a strictly
-// farther one only, so exact ties go to the target drawn first.
-template <class Hit>
+// farther one only, so exact ties go to the target drawn first. Without kShade, the hit's
+// |n · L| is not stored (and, the hit test inlined, not computed): depth and colour index are
+// those of the shaded drawing.
+template <bool kShade, class Hit>
 void draw(const CameraTarget& target, int colour, const Hit& hit, const CameraRays& rays,
           int width, DepthBuffer& buffer) {
   for (int row = target.row_begin; row < target.row_end; ++row) {
@@ -256,62 +259,69 @@ void draw(const CameraTarget& target, int colour, const Hit& hit, const CameraRa
       if (depth_m >= nearest_m && buffer.colour[pixel] != 0) continue;
       buffer.depth_m[pixel] = depth_m;
       buffer.colour[pixel] = colour;
-      buffer.shade[pixel] = kAmbient + kDiffuse * cosine;
+      if (kShade) buffer.shade[pixel] = kAmbient + kDiffuse * cosine;
     }
   }
 }
 
+template <bool kShade>
 void draw(const CameraTarget& target, int colour, const CameraRays& rays, int width,
           DepthBuffer& buffer) {
   const btVector3 light = to_bt(kLightDirection) * target.basis;  // in the object's frame
   if (target.camera == CameraTarget::Camera::kInside) {
-    draw(target, colour, InsideHit(light), rays, width, buffer);
+    draw<kShade>(target, colour, InsideHit(light), rays, width, buffer);
     return;
   }
   if (target.camera == CameraTarget::Camera::kOnSurface) {
-    draw(target, colour, AnyHit(target, light), rays, width, buffer);
+    draw<kShade>(target, colour, AnyHit(target, light), rays, width, buffer);
     return;
   }
   switch (target.primitive->kind) {
     case Primitive::Kind::kBox:
-      draw(target, colour, BoxHit(target, light), rays, width, buffer);
+      draw<kShade>(target, colour, BoxHit(target, light), rays, width, buffer);
       break;
     case Primitive::Kind::kCylinder:
-      draw(target, colour, CylinderHit(target, light), rays, width, buffer);
+      draw<kShade>(target, colour, CylinderHit(target, light), rays, width, buffer);
       break;
     case Primitive::Kind::kSphere:
-      draw(target, colour, SphereHit(target, light), rays, width, buffer);
+      draw<kShade>(target, colour, SphereHit(target, light), rays, width, buffer);
       break;
   }
 }
 
 }  // namespace
 
-namespace {
-
-// One image into rgb (3 bytes per pixel) and, unless null, depth_m; the pose and spec checked.
 void render_into(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
                  int ignore_handle, int mask, std::uint8_t* rgb, float* depth_out) {
+  check_spec(camera_pose, spec);
+  if (rgb == nullptr && depth_out == nullptr) return;
   const CameraRays rays = camera_rays(camera_pose, spec);
   const std::vector<CameraTarget> targets =
       camera_targets(world, rays, spec, ignore_handle, mask);
   const std::size_t pixels = static_cast<std::size_t>(spec.width) * spec.height;
+  const bool shaded = rgb != nullptr;
   thread_local DepthBuffer buffer;
-  buffer.reset(pixels, spec.far_m);
+  buffer.reset(pixels, spec.far_m, shaded);
   std::vector<double> colours(world.background().data(), world.background().data() + 3);
   for (std::size_t k = 0; k < targets.size(); ++k) {
-    draw(targets[k], static_cast<int>(k + 1), rays, spec.width, buffer);
+    if (shaded) {
+      draw<true>(targets[k], static_cast<int>(k + 1), rays, spec.width, buffer);
+    } else {
+      draw<false>(targets[k], static_cast<int>(k + 1), rays, spec.width, buffer);
+    }
     colours.insert(colours.end(), targets[k].rgb.data(), targets[k].rgb.data() + 3);
   }
   // Plain pointers: byte stores through the vector would make the compiler reload everything.
   const double* shade = buffer.shade.data();
   const int* colour = buffer.colour.data();
   const double* depth_m = buffer.depth_m.data();
-  for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
-    const double* base = &colours[3 * colour[pixel]];
-    rgb[3 * pixel] = to_byte(base[0] * shade[pixel]);
-    rgb[3 * pixel + 1] = to_byte(base[1] * shade[pixel]);
-    rgb[3 * pixel + 2] = to_byte(base[2] * shade[pixel]);
+  if (shaded) {
+    for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
+      const double* base = &colours[3 * colour[pixel]];
+      rgb[3 * pixel] = to_byte(base[0] * shade[pixel]);
+      rgb[3 * pixel + 1] = to_byte(base[1] * shade[pixel]);
+      rgb[3 * pixel + 2] = to_byte(base[2] * shade[pixel]);
+    }
   }
   if (depth_out != nullptr) {
     for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
@@ -320,8 +330,6 @@ void render_into(const CollisionWorld& world, const Pose& camera_pose, const Cam
   }
   if (pixels > kKeptPixels) buffer = DepthBuffer();  // do not hold on to a huge image's memory
 }
-
-}  // namespace
 
 CameraImage render(const CollisionWorld& world, const Pose& camera_pose, const CameraSpec& spec,
                    int ignore_handle, int mask) {

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
+#include <vector>
 
 #include "epuck_vrep_compat/render/ray_camera.hpp"
 
@@ -87,6 +89,23 @@ TEST(RayCamera, TurnedAwayItSeesOnlyTheBackground) {
       ASSERT_EQ(pixel(image, row, col), (Rgb{0, 0, 255})) << row << ", " << col;
     }
   }
+}
+
+TEST(RayCamera, RenderIntoGivesWhatIsAskedForAsRenderDoes) {
+  CollisionWorld world;
+  add_wall(world);
+  const CameraImage image = evc::render(world, camera_pose(0.3), spec());
+  std::vector<std::uint8_t> rgb(image.rgb.size(), 7);
+  std::vector<float> depth(image.depth_m.size(), -1.0f);
+  evc::render_into(world, camera_pose(0.3), spec(), -1, evc::kGroupAll, nullptr, depth.data());
+  EXPECT_EQ(depth, image.depth_m);
+  evc::render_into(world, camera_pose(0.3), spec(), -1, evc::kGroupAll, rgb.data(), nullptr);
+  EXPECT_EQ(rgb, image.rgb);
+  CameraSpec bad = spec();
+  bad.width = 0;
+  EXPECT_THROW(evc::render_into(world, camera_pose(0.0), bad, -1, evc::kGroupAll, nullptr,
+                                nullptr),
+               std::invalid_argument);
 }
 
 }  // namespace

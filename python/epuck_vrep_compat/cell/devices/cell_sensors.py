@@ -29,21 +29,32 @@ class CellVision(VisionSensor):
         self.depth_noise = depth_noise
         self.blob = blob
 
+    def view(self):
+        return super().view() + (self.mask,)
+
+    def _noisy(self, depth):
+        if self.depth_noise is None:
+            return depth
+        return self.depth_noise.apply(depth, self.spec.near_m, self.spec.far_m)
+
     def render(self):
-        position, quat = self.camera_pose()
-        s = self.spec
-        rgb, depth = self._sim.world.render(position, quat, s.width, s.height,
-                                            s.vertical_fov_rad, s.near_m, s.far_m, -1,
-                                            self.mask)
+        rgb, depth = self._sim.world.render(*self.view())
+        return rgb, self._noisy(depth)
+
+    def render_depth(self):
+        return self._noisy(self._sim.world.render(*self.view(), rgb=False)[1])
+
+    def render_rgb(self):
         if self.depth_noise is not None:
-            depth = self.depth_noise.apply(depth, s.near_m, s.far_m)
-        return rgb, depth
+            # every rendering of a noisy sensor draws one image's noise, whatever is read
+            return self.render()[0]
+        return self._sim.world.render(*self.view(), depth=False)[0]
 
     def blob_packet(self):
         """V-REP's blob detection filter on what the sensor renders (pixels where a ray hit
         something): [count, 6, size, orientation, x, y, w, h, ...], x and y relative to the
         image, y from the bottom."""
-        _, depth = self.render()
+        depth = self.render_depth()
         return np.asarray(_core.detect_blobs((depth < self.spec.far_m).astype(np.uint8)),
                           dtype=float)
 

@@ -88,14 +88,15 @@ def get_vision_sensor_image(backend, req, errors):
 
 class _DepthBufferResponse(srv.simRosGetVisionSensorDepthBufferResponse):
     """The response with ``buffer`` a float32 array, written to the wire in one copy rather
-    than packed float by float (a 640x480 buffer: 14 ms less per call)."""
+    than packed float by float (a 640x480 buffer: 14 ms less per call): the array's own
+    memory, not a bytes copy of it, goes to the buffer."""
 
     def serialize(self, buff):
         buff.write(_RESULT_AND_COUNT.pack(self.result, len(self.resolution)))
         buff.write(struct.pack(f"<{len(self.resolution)}i", *self.resolution))
         values = np.ascontiguousarray(self.buffer, dtype="<f4").reshape(-1)
         buff.write(_COUNT.pack(values.size))
-        buff.write(values.tobytes())
+        buff.write(values.data)
 
 
 def get_vision_sensor_depth_buffer(backend, req, errors):
