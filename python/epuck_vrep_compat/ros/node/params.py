@@ -40,6 +40,7 @@ class SimParams:
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
     model_dirs: list = field(default_factory=list)  # simRosLoadModel's folders besides models/
     lockstep_timeout_s: float = 0.0     # > 0: wait for the supervisor's scales each step
+    lockstep_cmd_vel: list = field(default_factory=list)   # and for these cmd_vel topics'
     operator_walk_seed: Optional[int] = None    # the cell operator's walk, over the scene's
     operator_trace: Optional[str] = None        # his recorded trace (CSV), over the scene's
     step_s: float = STEP_S
@@ -65,6 +66,7 @@ class SimParams:
                 f"{'..' if self.n > 4 else ''} profile={self.profile} seed={self.seed} "
                 f"noise={'on' if self.noise.enabled else 'off'} ({self.noise_source}) "
                 f"rtf={self.rtf} lockstep_timeout_s={self.lockstep_timeout_s} "
+                f"lockstep_cmd_vel={self.lockstep_cmd_vel} "
                 f"{self._operator()}"
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
@@ -94,6 +96,10 @@ def read_params(default_world: str) -> SimParams:
     p.lockstep_timeout_s = _get("lockstep_timeout_s", 0.0, float,
                                 lambda v: math.isfinite(v) and v >= 0.0,
                                 "must be >= 0 s of wall time (0 = no lock-step)")
+    p.lockstep_cmd_vel = _get("lockstep_cmd_vel", [], list,
+                              lambda v: all(isinstance(t, str) and t.startswith("/") for t in v),
+                              "must be a list of absolute cmd_vel topics or patterns "
+                              "(/ePuck*/cmd_vel; [] = none)")
     p.operator_walk_seed, p.operator_trace = _read_operator()
     p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)
