@@ -1,6 +1,7 @@
 """StepLockstep without a handshake (the e-puck face's cmd_vel lock-step) and Locksteps (every
 face's at once): no wait before the first step, what came before it answers no step, one
-answer per robot per step after it, a lost robot waited for again once it has caught up."""
+answer per robot per step after it, an early answer counted for the next step, a lost robot
+waited for again once it has caught up."""
 import threading
 
 from epuck_vrep_compat.ros.common.lockstep import Locksteps, StepLockstep
@@ -9,7 +10,8 @@ ROBOTS = ["ePuck0", "ePuck1"]
 
 
 def lockstep(robots=ROBOTS, timeout_s=0.05):
-    return StepLockstep(lambda: robots, timeout_s, "cmd_vel", handshake=False)
+    return StepLockstep(lambda: robots, timeout_s, "cmd_vel", handshake=False,
+                        early_answers=True)
 
 
 def test_no_wait_before_the_first_step_then_one_answer_per_step():
@@ -56,6 +58,32 @@ def test_a_late_command_counts_for_the_step_it_answers():
     ls.stepped()                                    # step 4: both waited for
     assert ls.late_steps == 2
     assert ls.missing() == [("ePuck0", 3), ("ePuck1", 3)]
+
+
+def test_a_command_beyond_the_steps_answers_the_next_one():
+    ls = lockstep(robots=["ePuck0"])
+    ls.stepped()                                    # step 1
+    ls.answered("ePuck0")
+    ls.answered("ePuck0")                           # a timer that fired twice in step 1
+    ls.stepped()                                    # step 2: already answered
+    assert ls.missing() == []
+    ls.stepped()                                    # step 3
+    assert ls.missing() == [("ePuck0", 2)]
+
+
+def test_a_lost_robot_that_catches_up_early_is_waited_for_again():
+    ls = lockstep(robots=["ePuck0"])
+    ls.stepped()
+    ls.wait()                                       # lost at step 1
+    ls.stepped()                                    # step 2, late
+    ls.answered("ePuck0")
+    ls.answered("ePuck0")
+    ls.answered("ePuck0")                           # steps 1, 2 and (early) 3
+    ls.stepped()                                    # step 3: waited for again, answered
+    assert ls.late_steps == 1
+    assert ls.missing() == []
+    ls.stepped()
+    assert ls.missing() == [("ePuck0", 3)]
 
 
 def test_only_the_watched_robots_are_waited_for():

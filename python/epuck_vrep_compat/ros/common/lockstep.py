@@ -21,8 +21,11 @@ within ``timeout_s`` of wall time (a dead or hung client) is waited for no longe
 warning: the run goes on and :attr:`late_steps` counts every step taken without waiting for
 some robot. Its late answers are still counted against the steps they answer; it is waited
 for again only once it has answered every step published (never, with a warning when it is
-lost, if it skipped one). Messages beyond the steps published (a latched one sent again) are
-ignored, with a warning: they would otherwise release the simulator a step early from then on.
+lost, if it skipped one). Messages beyond the steps published: by default (a supervisor's
+latched answer, sent again on a reconnection) ignored, with a warning, since they would
+otherwise release the simulator a step early from then on; with ``early_answers`` (a
+controller's command, never latched) they answer the next steps, as the experiment probe
+counts them (a node on a timer that fired twice in one step has answered the next one).
 """
 import threading
 import time
@@ -35,15 +38,18 @@ POLL_S = 0.05        # wall seconds between checks of the stop request while wai
 class StepLockstep:
     """Matches each watched robot's answers to the steps they answer, and waits for them."""
 
-    def __init__(self, robots, timeout_s: float, what: str, handshake: bool = True):
+    def __init__(self, robots, timeout_s: float, what: str, handshake: bool = True,
+                 early_answers: bool = False):
         """``robots``: a callable giving the watched robots' names now; ``what``: the answer's
         name in the log (``speed scale``, ``cmd_vel``); ``handshake``: wait before the first
-        step for one answer from each (see the module). :attr:`stop_requested` (a callable;
-        the node's stop request) ends a wait early."""
+        step for one answer from each; ``early_answers``: an answer beyond the steps published
+        answers the next step (see the module). :attr:`stop_requested` (a callable; the node's
+        stop request) ends a wait early."""
         self._robots = robots
         self.timeout_s = float(timeout_s)
         self.what = what
         self._first_needed = 1 if handshake else 0
+        self._early_answers = early_answers
         self.stop_requested = lambda: False
         self._cond = threading.Condition()
         self._count = {}                 # robot -> answers received so far
@@ -56,13 +62,13 @@ class StepLockstep:
         with self._cond:
             count = self._count.get(robot, 0) + 1
             needed = self._needed.get(robot)
-            if needed is not None and count > needed:
+            if needed is not None and count > needed and not self._early_answers:
                 rospy.logwarn("lockstep: a %s of %s answers no step (%d for %d steps; a "
                               "latched one sent again?); ignored", self.what, robot, count,
                               needed)
                 return
             self._count[robot] = count
-            if robot in self._lost and needed is not None and count == needed:
+            if robot in self._lost and needed is not None and count >= needed:
                 self._lost.discard(robot)
                 rospy.loginfo("lockstep: %s has answered every step again; the simulator waits "
                               "for it", robot)

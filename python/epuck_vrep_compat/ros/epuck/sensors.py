@@ -91,7 +91,7 @@ class EpuckFace(Face):
         and a timeout > 0, the simulator waits after each step for one ``cmd_vel`` of every
         robot whose topic matches, answering that step (:attr:`lockstep`; see
         :mod:`epuck_vrep_compat.ros.common.lockstep`: no handshake, a controller answers each
-        step's sensor messages)."""
+        step's sensor messages; a command beyond the steps published answers the next)."""
         self.profile = profile
         self.sim = sim
         self.scaling = cmd_vel_scaling
@@ -113,7 +113,7 @@ class EpuckFace(Face):
             self.lockstep = StepLockstep(
                 lambda: [n for n in self._by_name if any(
                     fnmatch.fnmatchcase(profile.topic(n, "cmd_vel"), p) for p in patterns)],
-                timeout_s, "cmd_vel", handshake=False)
+                timeout_s, "cmd_vel", handshake=False, early_answers=True)
         self.sync()
 
     def sync(self):
