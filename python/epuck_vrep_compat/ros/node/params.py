@@ -56,6 +56,11 @@ class SimParams:
     extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
     test_fault_hook: bool = False       # tests only: faults on command (sim/fault_hook.py)
 
+    @property
+    def cmd_vel_lockstep(self):
+        """The e-puck face's lock-step: (cmd_vel topic patterns, timeout in s of wall time)."""
+        return self.lockstep_cmd_vel, self.lockstep_timeout_s
+
     def _operator(self) -> str:
         if self.operator_walk_seed is not None:
             return f"operator_walk_seed={self.operator_walk_seed} "

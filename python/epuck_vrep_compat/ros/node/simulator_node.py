@@ -80,8 +80,7 @@ class SimulatorNode:
         self._tf_static = StaticTransforms()
         self.leds = LedFace(profile, self.sim, self._batch)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
-                                params.publish_ground_truth,
-                                (params.lockstep_cmd_vel, params.lockstep_timeout_s))
+                                params.publish_ground_truth, params.cmd_vel_lockstep)
         self.tf = TfFace(profile, self.sim, self._tf_static)
         self.cameras = CameraFace(profile, self.sim, params.camera_mode)
         self.extras = None
@@ -101,7 +100,7 @@ class SimulatorNode:
                 raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
             if self.sim.cell.operator is not None:
                 rospy.loginfo("operator: %s", self.sim.cell.operator.describe())
-        self._lockstep = Locksteps.of([self.cell.lockstep if self.cell is not None else None,
+        self._lockstep = Locksteps.of([getattr(self.cell, "lockstep", None),
                                        self.epucks.lockstep])     # None: free-running
         self.descriptions = DescriptionFace(profile, self.sim)
         faults = None
