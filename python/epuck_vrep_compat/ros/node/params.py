@@ -39,7 +39,7 @@ class SimParams:
     speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
     model_dirs: list = field(default_factory=list)  # simRosLoadModel's folders besides models/
-    lockstep_timeout_s: float = 0.0     # > 0: wait for the supervisor's scales each step
+    lockstep_timeout_s: float = 0.0     # > 0: wait for the supervisor's scales each step,
     lockstep_cmd_vel: list = field(default_factory=list)   # and for these cmd_vel topics'
     operator_walk_seed: Optional[int] = None    # the cell operator's walk, over the scene's
     operator_trace: Optional[str] = None        # his recorded trace (CSV), over the scene's
