@@ -9,10 +9,8 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
-from nav_msgs.msg import Odometry
 
-from epuck_vrep_compat.srv import StepSimulation
-from sim_test_helpers import PKG, Collector, RosoutGuard
+from sim_test_helpers import PKG, RosoutGuard, stepped_robot
 
 V_M_S = 0.05
 
@@ -22,13 +20,7 @@ class CmdVelLockstep(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("test_cmd_vel_lockstep")
         cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/step", timeout=30)
-        cls.step = rospy.ServiceProxy("/vrep/step", StepSimulation)
-        cls.truth = Collector("/ePuck0/ground_truth", Odometry)
-        cls.cmd = rospy.Publisher("/ePuck0/cmd_vel", Twist, queue_size=10)
-        deadline = time.monotonic() + 20
-        while cls.cmd.get_num_connections() == 0 and time.monotonic() < deadline:
-            time.sleep(0.05)
+        stepped_robot(cls)
 
     def _truth_at(self, sim_time):
         return self.truth.wait_for(lambda m: abs(m.header.stamp.to_sec() - sim_time) < 1e-6,
