@@ -138,6 +138,22 @@ def unpause_when_subscribed(subscribers, timeout_s=60.0):
     rospy.ServiceProxy("/vrep/unpause", Empty)()
 
 
+def stepped_robot(test_class, robot="ePuck0"):
+    """A paused simulator's client on ``test_class``: ``step`` (``/vrep/step``), ``truth``
+    (the robot's ground truth, collected), ``cmd`` (its cmd_vel, connected when it returns)."""
+    from geometry_msgs.msg import Twist
+    from nav_msgs.msg import Odometry
+
+    from epuck_vrep_compat.srv import StepSimulation
+    rospy.wait_for_service("/vrep/step", timeout=30)
+    test_class.step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
+    test_class.truth = Collector(f"/{robot}/ground_truth", Odometry)
+    test_class.cmd = rospy.Publisher(f"/{robot}/cmd_vel", Twist, queue_size=1)
+    deadline = time.monotonic() + 20
+    while test_class.cmd.get_num_connections() == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+
+
 def pose_of(odometry):
     """(x, y, yaw) of a nav_msgs/Odometry (ground truth)."""
     from epuck_vrep_compat.geometry.transforms import yaw_of

@@ -11,11 +11,9 @@ import rospy
 import rostest
 import tf2_ros
 from geometry_msgs.msg import Twist
-from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, Range
 
-from epuck_vrep_compat.srv import StepSimulation
-from sim_test_helpers import PKG, Collector, RosoutGuard
+from sim_test_helpers import PKG, Collector, RosoutGuard, stepped_robot
 
 WALL_X = 0.20
 HALF_ANGLE = math.radians(15.0)
@@ -31,13 +29,7 @@ class KinematicsAndSensors(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("test_kinematics_and_sensors")
         cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/step", timeout=30)
-        cls.step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
-        cls.truth = Collector("/ePuck0/ground_truth", Odometry)
-        cls.cmd = rospy.Publisher("/ePuck0/cmd_vel", Twist, queue_size=1)
-        deadline = time.monotonic() + 20
-        while cls.cmd.get_num_connections() == 0 and time.monotonic() < deadline:
-            time.sleep(0.05)
+        stepped_robot(cls)
 
     def _step(self, steps):
         result = self.step(steps)

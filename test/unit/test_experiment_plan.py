@@ -157,6 +157,23 @@ def launch_xml(task):
     return ET.fromstring(launch_files.run_launch(task))
 
 
+def test_a_lockstep_pace_on_cmd_vel_makes_the_simulator_wait_for_the_commands():
+    s = spec_with(pace={"wait_for": ["/ePuck*/cmd_vel", "/ePuck0/speed"], "step_timeout_s": 3},
+                  seeds=[1])
+    args = plan.tasks(s)[0].sim_args
+    assert (args["lockstep_cmd_vel"], args["lockstep_timeout"]) == ('["/ePuck*/cmd_vel"]', 1.5)
+    assert yaml.safe_load(args["lockstep_cmd_vel"]) == ["/ePuck*/cmd_vel"]
+    free = spec_with(pace={"mode": "free", "wait_for": ["/ePuck0/cmd_vel"]}, seeds=[1])
+    other = spec_with(pace={"wait_for": ["/ePuck0/speed"]}, seeds=[1])
+    for t in (plan.tasks(free)[0], plan.tasks(other)[0], plan.tasks(spec_with(seeds=[1]))[0]):
+        assert "lockstep_cmd_vel" not in t.sim_args and "lockstep_timeout" not in t.sim_args
+    own = spec_with(pace={"wait_for": ["/ePuck0/cmd_vel"]}, seeds=[1],
+                    simulator=dict(VALID_RAW["simulator"], args={"lockstep_timeout": 4.0}))
+    assert plan.tasks(own)[0].sim_args["lockstep_timeout"] == 4.0      # the spec's wins
+    undeclared = {"wait_for": ["/ePuck0/cmd_vel"], "mode": "lockstep"}
+    assert launch_files.cmd_vel_lockstep(undeclared, {"n", "paused"}) == {}
+
+
 def args_of(include):
     return {a.get("name"): a.get("value") for a in include.findall("arg")}
 

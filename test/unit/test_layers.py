@@ -35,7 +35,8 @@ LAYERS = (
     ("experiment",),                    # many runs of clients and the simulator, on Dask
 )
 ROS_LAYERS = (                          # inside ros/, bottom first
-    ("common",),                        # throttled log, parameter checks (shared with clients)
+    ("common",),                        # throttled log, parameter checks (shared with clients),
+                                        # the faces' shared lock-step wait
     ("transport", "messages", "face"),  # the step batch and wire layouts, builders, protocol
     ("epuck", "vrep_plugin", "cell"),   # the faces: never import each other
     ("node",),                          # the simulator node that holds the faces

@@ -5,6 +5,7 @@ user's launch files unchanged, starts the user's nodes as ``rosrun`` would, sets
 parameters, and starts the ``experiment_probe`` node (required: its end is the run's end).
 """
 import fnmatch
+import json
 import os
 import shlex
 import xml.etree.ElementTree as ET
@@ -77,6 +78,22 @@ def find_node(package, node_type):
         if os.access(path, os.X_OK):
             return path
     return None
+
+
+def cmd_vel_lockstep(pace, declared):
+    """The simulator's arguments for the e-puck half of lock-step: with a lock-step ``pace``
+    whose ``wait_for`` names robots' ``cmd_vel`` topics (or patterns), a simulator launch file
+    that declares ``lockstep_cmd_vel`` and ``lockstep_timeout`` (``epucks.launch``) is told to
+    wait after each step for those commands, so that the step the probe triggers uses the
+    command that answered the last one (the probe sees it on its own connection, which may be
+    ahead of the simulator's). The simulator's timeout is half the probe's step timeout: a dead
+    node's step is late for the simulator before it is for the probe. {} otherwise."""
+    topics = [t for t in pace.get("wait_for", []) if t.rsplit("/", 1)[-1] == "cmd_vel"]
+    timeout_s = 0.5 * float(pace.get("step_timeout_s", 1.0))
+    if (pace.get("mode") != "lockstep" or not topics or timeout_s <= 0.0
+            or not {"lockstep_cmd_vel", "lockstep_timeout"} <= set(declared)):
+        return {}
+    return {"lockstep_cmd_vel": json.dumps(topics), "lockstep_timeout": timeout_s}
 
 
 def _value(v):

@@ -140,6 +140,8 @@ def _task(spec, cell, seed, marker):
         sim_args.setdefault("rtf", 0.0)
     if "paused" in declared:
         sim_args["paused"] = True
+    for key, value in launch_files.cmd_vel_lockstep(spec["pace"], declared).items():
+        sim_args.setdefault(key, value)     # the spec's own sim args win
     needed = metrics.topics_needed(spec["metrics"])
     # lockstep waits, after each step, for what the code answers (it must exist) and for what
     # the metrics read (those of it that exist: a metric may name alternatives)

@@ -11,6 +11,10 @@ answer is a message that came after the step's trigger (a latched one sent befor
 answers no step), and a message without a stamp is recorded at the time of the step during
 which it came (the simulator holds that step until the next trigger), even when that step's
 ``/clock`` reaches the probe after it.
+The simulator gets an answer on its own connection, which may be behind the probe's: for a
+robot's ``cmd_vel`` it waits for the answer itself before the step the trigger asks for (the
+runner sets ``epucks.launch``'s ``lockstep_cmd_vel``, ``launch_files.cmd_vel_lockstep``);
+for other topics ``settle_s`` before each trigger gives it the time.
 It records every message of the topics matching ``~topics`` (glob patterns) as numeric
 columns, and once the simulated time reaches ``~duration_s`` writes the recording (npz), the
 world's scene file and a status file beside it, then exits: the launch marks it required, so

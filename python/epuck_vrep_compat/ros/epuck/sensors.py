@@ -7,6 +7,8 @@ commands, by robot name. :meth:`EpuckFace.sync` follows robots added to and remo
 simulation: a new robot's topics are advertised, a removed robot's unadvertised.
 """
 
+import fnmatch
+
 import numpy as np
 import rospy
 from geometry_msgs.msg import Twist
@@ -15,6 +17,7 @@ from sensor_msgs.msg import Imu, LaserScan, Range
 
 from epuck_vrep_compat.compat import epuck_names
 from epuck_vrep_compat.compat.frames import ODOM_FRAME
+from epuck_vrep_compat.ros.common.lockstep import StepLockstep
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.epuck import commands
 from epuck_vrep_compat.ros.epuck.drivers import driver_scan
@@ -82,7 +85,13 @@ class EpuckFace(Face):
     """The per-robot sensor topics (ranges, IMU, odometry, ground truth, the driver's scan) and
     each robot's ``cmd_vel``."""
 
-    def __init__(self, profile, sim, cmd_vel_scaling, accel_sign, publish_ground_truth):
+    def __init__(self, profile, sim, cmd_vel_scaling, accel_sign, publish_ground_truth,
+                 lockstep=((), 0.0)):
+        """``lockstep``: (cmd_vel topic patterns, timeout in s of wall time); with patterns
+        and a timeout > 0, the simulator waits after each step for one ``cmd_vel`` of every
+        robot whose topic matches, answering that step (:attr:`lockstep`; see
+        :mod:`epuck_vrep_compat.ros.common.lockstep`: no handshake, a controller answers each
+        step's sensor messages; a command beyond the steps published answers the next)."""
         self.profile = profile
         self.sim = sim
         self.scaling = cmd_vel_scaling
@@ -98,6 +107,13 @@ class EpuckFace(Face):
         self._sensor_yaws = [s.yaw_rad for s in sim.epucks.model.sensors]
         self._max_range = profile.range.max_range_m
         self._min_range = profile.range.min_range_m
+        patterns, timeout_s = lockstep
+        self.lockstep = None                 # None: the simulator does not wait for cmd_vel
+        if patterns and timeout_s > 0.0:
+            self.lockstep = StepLockstep(
+                lambda: [n for n in self._by_name if any(
+                    fnmatch.fnmatchcase(profile.topic(n, "cmd_vel"), p) for p in patterns)],
+                timeout_s, "cmd_vel", handshake=False, early_answers=True)
         self.sync()
 
     def sync(self):
@@ -159,6 +175,8 @@ class EpuckFace(Face):
             self._log.warn(f"{name}:cmd_vel", "%s: cmd_vel with a non-finite value refused "
                            "(linear.x=%s, angular.z=%s); wheels unchanged", name, msg.linear.x,
                            msg.angular.z)
+        if self.lockstep is not None:        # applied (or refused): it answers the step
+            self.lockstep.answered(name)
 
     # --- per step ------------------------------------------------------------------------
     def publish(self, step: Step):

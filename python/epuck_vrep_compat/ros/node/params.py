@@ -39,7 +39,8 @@ class SimParams:
     speed_scale_timeout_s: float = 0.0  # the cell's speed-scale watchdog; 0 = off
     speed_scale_robots: list = field(default_factory=list)     # the watched; [] = every robot
     model_dirs: list = field(default_factory=list)  # simRosLoadModel's folders besides models/
-    lockstep_timeout_s: float = 0.0     # > 0: wait for the supervisor's scales each step
+    lockstep_timeout_s: float = 0.0     # > 0: wait for the supervisor's scales each step,
+    lockstep_cmd_vel: list = field(default_factory=list)   # and for these cmd_vel topics'
     operator_walk_seed: Optional[int] = None    # the cell operator's walk, over the scene's
     operator_trace: Optional[str] = None        # his recorded trace (CSV), over the scene's
     step_s: float = STEP_S
@@ -55,6 +56,11 @@ class SimParams:
     extras: Epuck2Settings = field(default_factory=Epuck2Settings)   # the drivers' extras
     test_fault_hook: bool = False       # tests only: faults on command (sim/fault_hook.py)
 
+    @property
+    def cmd_vel_lockstep(self):
+        """The e-puck face's lock-step: (cmd_vel topic patterns, timeout in s of wall time)."""
+        return self.lockstep_cmd_vel, self.lockstep_timeout_s
+
     def _operator(self) -> str:
         if self.operator_walk_seed is not None:
             return f"operator_walk_seed={self.operator_walk_seed} "
@@ -65,6 +71,7 @@ class SimParams:
                 f"{'..' if self.n > 4 else ''} profile={self.profile} seed={self.seed} "
                 f"noise={'on' if self.noise.enabled else 'off'} ({self.noise_source}) "
                 f"rtf={self.rtf} lockstep_timeout_s={self.lockstep_timeout_s} "
+                f"lockstep_cmd_vel={self.lockstep_cmd_vel} "
                 f"{self._operator()}"
                 f"step_s={self.step_s} paused={self.paused} cmd_vel_scaling={self.cmd_vel_scaling}"
                 f" cmd_timeout_s={self.cmd_timeout_s} accel_sign={self.accel_sign} camera="
@@ -94,6 +101,10 @@ def read_params(default_world: str) -> SimParams:
     p.lockstep_timeout_s = _get("lockstep_timeout_s", 0.0, float,
                                 lambda v: math.isfinite(v) and v >= 0.0,
                                 "must be >= 0 s of wall time (0 = no lock-step)")
+    p.lockstep_cmd_vel = _get("lockstep_cmd_vel", [], list,
+                              lambda v: all(isinstance(t, str) and t.startswith("/") for t in v),
+                              "must be a list of absolute cmd_vel topics or patterns "
+                              "(/ePuck*/cmd_vel; [] = none)")
     p.operator_walk_seed, p.operator_trace = _read_operator()
     p.step_s = _get("step_s", STEP_S, float, lambda v: 0.0 < v <= 1.0, "must be in (0, 1]")
     p.paused = _get("paused", False, bool)

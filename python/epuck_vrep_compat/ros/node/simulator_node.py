@@ -26,6 +26,7 @@ from tf2_msgs.msg import TFMessage
 from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat.topics import (
     CLOCK_TOPIC, PAUSE_SERVICE, RESET_SERVICE, TF_TOPIC, UNPAUSE_SERVICE)
+from epuck_vrep_compat.ros.common.lockstep import Locksteps
 from epuck_vrep_compat.ros.common.log import ThrottledLog
 from epuck_vrep_compat.ros.epuck.camera import CameraFace
 from epuck_vrep_compat.ros.epuck.description import DescriptionFace
@@ -79,7 +80,7 @@ class SimulatorNode:
         self._tf_static = StaticTransforms()
         self.leds = LedFace(profile, self.sim, self._batch)
         self.epucks = EpuckFace(profile, self.sim, params.cmd_vel_scaling, params.accel_sign,
-                                params.publish_ground_truth)
+                                params.publish_ground_truth, params.cmd_vel_lockstep)
         self.tf = TfFace(profile, self.sim, self._tf_static)
         self.cameras = CameraFace(profile, self.sim, params.camera_mode)
         self.extras = None
@@ -99,7 +100,8 @@ class SimulatorNode:
                 raise ParamError(f"parameter '~speed_scale_robots': {e}") from None
             if self.sim.cell.operator is not None:
                 rospy.loginfo("operator: %s", self.sim.cell.operator.describe())
-        self._lockstep = self.cell.lockstep if self.cell is not None else None
+        self._lockstep = Locksteps.of([getattr(self.cell, "lockstep", None),
+                                       self.epucks.lockstep])     # None: free-running
         self.descriptions = DescriptionFace(profile, self.sim)
         faults = None
         if self.sim.fault_hook is not None:      # tests only; first, so the others follow it

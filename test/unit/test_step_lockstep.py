@@ -1,0 +1,114 @@
+"""StepLockstep without a handshake (the e-puck face's cmd_vel lock-step) and Locksteps (every
+face's at once): no wait before the first step, what came before it answers no step, one
+answer per robot per step after it, an early answer counted for the next step, a lost robot
+waited for again once it has caught up."""
+import threading
+
+from epuck_vrep_compat.ros.common.lockstep import Locksteps, StepLockstep
+
+ROBOTS = ["ePuck0", "ePuck1"]
+
+
+def lockstep(robots=ROBOTS, timeout_s=0.05):
+    return StepLockstep(lambda: robots, timeout_s, "cmd_vel", handshake=False,
+                        early_answers=True)
+
+
+def test_no_wait_before_the_first_step_then_one_answer_per_step():
+    ls = lockstep()
+    assert ls.missing() == []                       # a controller answers step 1's sensors
+    ls.wait()                                       # returns at once, nobody lost
+    ls.stepped()                                    # step 1
+    assert ls.missing() == [("ePuck0", 0), ("ePuck1", 0)]
+    ls.answered("ePuck0")
+    assert ls.missing() == [("ePuck1", 0)]
+    ls.answered("ePuck1")
+    assert ls.missing() == []
+    ls.stepped()                                    # step 2
+    assert ls.missing() == [("ePuck0", 1), ("ePuck1", 1)]
+    assert ls.late_steps == 0
+
+
+def test_a_command_before_the_first_step_answers_no_step():
+    ls = lockstep()
+    ls.answered("ePuck0")                           # a stop command at the node's start
+    ls.stepped()                                    # step 1: one more than the baseline
+    assert ls.missing() == [("ePuck0", 1), ("ePuck1", 0)]
+    ls.answered("ePuck0")
+    ls.answered("ePuck1")
+    assert ls.missing() == []
+
+
+def test_a_late_command_counts_for_the_step_it_answers():
+    ls = lockstep()
+    ls.stepped()                                    # step 1
+    ls.answered("ePuck0")
+    ls.wait()                                       # ePuck1 times out: lost
+    ls.stepped()                                    # step 2, without ePuck1's answer
+    assert ls.late_steps == 1
+    assert ls.missing() == [("ePuck0", 1)]
+    ls.answered("ePuck0")
+    ls.answered("ePuck1")                           # its late answer to step 1: behind
+    ls.stepped()                                    # step 3
+    assert ls.late_steps == 2
+    ls.answered("ePuck1")
+    ls.answered("ePuck1")                           # steps 2 and 3: caught up
+    assert ls.missing() == [("ePuck0", 2)]
+    ls.answered("ePuck0")
+    ls.stepped()                                    # step 4: both waited for
+    assert ls.late_steps == 2
+    assert ls.missing() == [("ePuck0", 3), ("ePuck1", 3)]
+
+
+def test_a_command_beyond_the_steps_answers_the_next_one():
+    ls = lockstep(robots=["ePuck0"])
+    ls.stepped()                                    # step 1
+    ls.answered("ePuck0")
+    ls.answered("ePuck0")                           # a timer that fired twice in step 1
+    ls.stepped()                                    # step 2: already answered
+    assert ls.missing() == []
+    ls.stepped()                                    # step 3
+    assert ls.missing() == [("ePuck0", 2)]
+
+
+def test_a_lost_robot_that_catches_up_early_is_waited_for_again():
+    ls = lockstep(robots=["ePuck0"])
+    ls.stepped()
+    ls.wait()                                       # lost at step 1
+    ls.stepped()                                    # step 2, late
+    ls.answered("ePuck0")
+    ls.answered("ePuck0")
+    ls.answered("ePuck0")                           # steps 1, 2 and (early) 3
+    ls.stepped()                                    # step 3: waited for again, answered
+    assert ls.late_steps == 1
+    assert ls.missing() == []
+    ls.stepped()
+    assert ls.missing() == [("ePuck0", 3)]
+
+
+def test_only_the_watched_robots_are_waited_for():
+    ls = lockstep(robots=["ePuck1"])
+    ls.answered("ePuck0")                           # not watched: counted, never waited for
+    ls.stepped()
+    assert ls.missing() == [("ePuck1", 0)]
+
+
+def test_locksteps_waits_for_every_face_and_is_none_without_one():
+    assert Locksteps.of([None, None]) is None
+    cmd = lockstep(robots=["ePuck0"], timeout_s=3600.0)
+    scale = StepLockstep(lambda: ["irb140"], 3600.0, "speed scale")
+    both = Locksteps.of([scale, None, cmd])
+    stop = threading.Event()
+    both.stop_requested = stop.is_set
+    assert cmd.stop_requested == stop.is_set and scale.stop_requested == stop.is_set
+    scale.answered("irb140")                        # the supervisor's handshake
+    both.wait()
+    both.stepped()
+    assert scale.missing() == [("irb140", 1)] and cmd.missing() == [("ePuck0", 0)]
+    waiter = threading.Thread(target=both.wait)
+    waiter.start()
+    scale.answered("irb140")
+    cmd.answered("ePuck0")
+    waiter.join(60.0)
+    assert not waiter.is_alive()
+    assert scale.missing() == [] and cmd.missing() == []
