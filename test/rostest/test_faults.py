@@ -7,7 +7,6 @@ and a simulator whose master restarts or dies exits with status 3 instead of liv
 zombie (checked on a master and simulator of its own)."""
 import os
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -22,6 +21,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, Range
 from std_msgs.msg import UInt8MultiArray
 
+from epuck_vrep_compat.experiment.isolation import free_port
 from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_for_message
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -166,9 +166,7 @@ class Faults(unittest.TestCase):
             raise AssertionError(f"the simulator did not exit in {timeout_s} s:\n{out}")
 
     def test_c_a_master_restart_or_loss_ends_the_simulator_with_status_3(self):
-        with socket.socket() as s:
-            s.bind(("127.0.0.1", 0))
-            port = s.getsockname()[1]
+        port = free_port()
         master, uri = self._private_master(port)
         sim = self._private_simulator(uri)
         master.terminate()                     # restarted at once: it knows nothing of /vrep

@@ -11,7 +11,6 @@ for bit."""
 import csv
 import os
 import signal
-import socket
 import subprocess
 import tempfile
 import unittest
@@ -20,16 +19,11 @@ import rospkg
 import rospy
 import rostest
 
+from epuck_vrep_compat.experiment.isolation import free_port
 from sim_test_helpers import PKG
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DURATION_S = 12.0
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def run(rtf, folder, by_step_service=False):
@@ -45,8 +39,8 @@ def run(rtf, folder, by_step_service=False):
          f"by_step_service:={str(by_step_service).lower()}"],
         env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
         start_new_session=True)
-    try:
-        log, _ = proc.communicate(timeout=240)
+    try:            # the recorder is required: its end ends the run (rostest's limit guards hangs)
+        log, _ = proc.communicate()
     finally:
         if proc.poll() is None:             # only what this run started: its process group
             os.killpg(proc.pid, signal.SIGINT)
