@@ -12,7 +12,7 @@ from typing import List
 import numpy as np
 
 from epuck_vrep_compat._core import ConvexShape
-from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, compose, inverse
+from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, rotate_terms
 
 
 @dataclass
@@ -42,10 +42,27 @@ def _operator_body(cell, x: float, y: float):
     return shapes, positions, np.tile(IDENTITY_QUAT, (2, 1))
 
 
-def operator_separation(cell, ground_truth: bool = True, x: float = 0.0,
-                        y: float = 0.0) -> List[LinkSeparation]:
-    """Every link's separation from the operator, as of the last step. NoOperator when there
-    is none to measure from (ground truth needs him in the scene); ValueError for a
+@dataclass
+class Separations:
+    """Every link's closest points to the operator, stacked (n links): what
+    :func:`operator_separation` gives as one :class:`LinkSeparation` each."""
+    robot: List[str]
+    link: List[str]
+    distance_m: np.ndarray          # (n,)
+    operator_point: np.ndarray      # (n, 3), world frame
+    link_point: np.ndarray          # (n, 3), world frame
+    link_point_local: np.ndarray    # (n, 3), in each link's frame
+
+
+def _rotate_rows(q, v):
+    """Rows ``v`` (n, 3) rotated by rows ``q`` (n, 4), by the one-pose formula term by term, so
+    that each row is what ``quat_rotate`` gives for it alone, to the last bit."""
+    return np.column_stack(rotate_terms(q.T, v.T))
+
+
+def separations(cell, ground_truth: bool = True, x: float = 0.0, y: float = 0.0) -> Separations:
+    """Every link's separation from the operator, as of the last step, stacked. NoOperator
+    when there is none to measure from (ground truth needs him in the scene); ValueError for a
     non-finite (x, y)."""
     links = cell.link_collisions
     names = [(arm, name) for arm in cell.arms for name in arm.link_names]
@@ -63,11 +80,21 @@ def operator_separation(cell, ground_truth: bool = True, x: float = 0.0,
         d, pa, pb, _, _ = cell.sim.world.minimum_distances_to(
             shapes, positions, quats, handles, rows, groups)
     link_positions, link_quats = cell.link_poses()
-    out = []
-    for row in sorted(set(rows)):
-        arm, name = names[row]
-        back_p, back_q = inverse(link_positions[row], link_quats[row])
-        local, _ = compose(back_p, back_q, pb[row], IDENTITY_QUAT)
-        out.append(LinkSeparation(arm.spec.name, arm.objects[name].name, float(d[row]),
-                                  pa[row].copy(), pb[row].copy(), local))
-    return out
+    used = sorted(set(rows))
+    conj = np.array(link_quats[used], dtype=float).reshape(-1, 4)
+    conj[:, :3] *= -1.0                                     # the links' inverse poses
+    back = -_rotate_rows(conj, np.asarray(link_positions[used], dtype=float).reshape(-1, 3))
+    points = np.asarray(pb[used], dtype=float).reshape(-1, 3)
+    return Separations([names[r][0].spec.name for r in used],
+                       [names[r][0].objects[names[r][1]].name for r in used],
+                       np.asarray(d[used], dtype=float), np.array(pa[used], dtype=float),
+                       np.array(points), back + _rotate_rows(conj, points))
+
+
+def operator_separation(cell, ground_truth: bool = True, x: float = 0.0,
+                        y: float = 0.0) -> List[LinkSeparation]:
+    """:func:`separations`, one :class:`LinkSeparation` per link."""
+    s = separations(cell, ground_truth, x, y)
+    return [LinkSeparation(s.robot[i], s.link[i], float(s.distance_m[i]),
+                           s.operator_point[i].copy(), s.link_point[i].copy(),
+                           s.link_point_local[i].copy()) for i in range(len(s.robot))]

@@ -37,22 +37,35 @@ def quat_from_rpy(roll, pitch, yaw):
                      cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy), axis=-1)
 
 
-def _mul4(a, b):
+def quat_mul_terms(a, b):
+    """The product of quaternions ``a``, ``b`` given as their four components each (floats or
+    arrays of them), as a tuple of four: the one formula every product here uses, so that a
+    caller working on plain floats or on columns gets the same bits as :func:`quat_mul`."""
     ax, ay, az, aw = a
     bx, by, bz, bw = b
-    return np.array((aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx,
-                     aw * bz + ax * by - ay * bx + az * bw,
-                     aw * bw - ax * bx - ay * by - az * bz))
+    return (aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz)
 
 
-def _rotate3(q, v):
+def rotate_terms(q, v):
+    """``v`` rotated by the unit quaternion ``q``, both given as their components (floats or
+    arrays of them), as a tuple of three: the formula of :func:`quat_rotate` on one pose."""
     x, y, z, w = q
     vx, vy, vz = v
     tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
-    return np.array((vx + w * tx + y * tz - z * ty,
-                     vy + w * ty + z * tx - x * tz,
-                     vz + w * tz + x * ty - y * tx))
+    return (vx + w * tx + y * tz - z * ty,
+            vy + w * ty + z * tx - x * tz,
+            vz + w * tz + x * ty - y * tx)
+
+
+def _mul4(a, b):
+    return np.array(quat_mul_terms(a, b))
+
+
+def _rotate3(q, v):
+    return np.array(rotate_terms(q, v))
 
 
 def quat_mul(a, b):
@@ -60,13 +73,7 @@ def quat_mul(a, b):
     b = np.asarray(b, dtype=float)
     if a.ndim == 1 and b.ndim == 1:
         return _mul4(a.tolist(), b.tolist())     # one pose: plain floats beat numpy's overhead
-    ax, ay, az, aw = np.moveaxis(a, -1, 0)
-    bx, by, bz, bw = np.moveaxis(b, -1, 0)
-    return np.stack((
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-        aw * bw - ax * bx - ay * by - az * bz), axis=-1)
+    return np.stack(quat_mul_terms(np.moveaxis(a, -1, 0), np.moveaxis(b, -1, 0)), axis=-1)
 
 
 def quat_conj(q):

@@ -19,7 +19,7 @@ class SimulationControl:
 
     def __init__(self, sim, initial_state: str = RUNNING):
         self._sim = sim
-        self._lock = threading.Lock()
+        self._lock = threading.Condition()      # notified whenever the loop may step
         self.state = initial_state
         self.synchronous = False
         self._triggers = 0
@@ -39,6 +39,16 @@ class SimulationControl:
                 return True
             return False
 
+    def wait_until_may_step(self, timeout_s: float):
+        """Until the loop may step (a start, a trigger, free running) or ``timeout_s`` of wall
+        time passed: the idle loop's wait, which a trigger ends at once (no polling)."""
+        with self._lock:
+            if not self._may_step_locked():
+                self._lock.wait(timeout_s)
+
+    def _may_step_locked(self) -> bool:
+        return self.state == RUNNING and (not self.synchronous or self._triggers > 0)
+
     @property
     def waiting_for_trigger(self) -> bool:
         return self.state == RUNNING and self.synchronous and self._triggers == 0
@@ -53,6 +63,7 @@ class SimulationControl:
             self.state = RUNNING
             if was_stopped:
                 self._start_frame = self._sim.frame
+            self._lock.notify_all()
         if was_stopped:
             self._notify(RUNNING)
         return 1
@@ -82,6 +93,7 @@ class SimulationControl:
         with self._lock:
             self.synchronous = bool(enable)
             self._triggers = 0
+            self._lock.notify_all()
         return 1
 
     def trigger(self) -> int:
@@ -90,6 +102,7 @@ class SimulationControl:
             if not self.synchronous:
                 return -1
             self._triggers += 1
+            self._lock.notify_all()
         return 1
 
     # --- what /vrep/info reports ----------------------------------------------------------

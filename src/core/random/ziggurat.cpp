@@ -7,36 +7,11 @@
 namespace evc {
 namespace {
 
-constexpr int kStrips = 128;
+constexpr int kStrips = kZigguratStrips;
 constexpr double kTailStart = 3.442619855899;     // r: where the base strip's tail begins
 constexpr double kStripArea = 9.91256303526217e-3;  // v: the area of every strip
 
 double density(double x) { return std::exp(-0.5 * x * x); }
-
-// Strip i spans |x| < edge[i] at heights between density(edge[i]) and density(edge[i + 1]);
-// strip 0 is the base, a rectangle of width v / f(r) standing in for the box under r plus the
-// tail beyond it. ratio[i] = edge[i + 1] / edge[i]: inside it a draw needs no density test.
-struct Tables {
-  std::array<double, kStrips + 1> edge{};
-  std::array<double, kStrips> ratio{};
-
-  Tables() {
-    double f = density(kTailStart);
-    edge[0] = kStripArea / f;
-    edge[1] = kTailStart;
-    edge[kStrips] = 0.0;
-    for (int i = 2; i < kStrips; ++i) {
-      edge[i] = std::sqrt(-2.0 * std::log(kStripArea / edge[i - 1] + f));
-      f = density(edge[i]);
-    }
-    for (int i = 0; i < kStrips; ++i) ratio[i] = edge[i + 1] / edge[i];
-  }
-};
-
-const Tables& tables() {
-  static const Tables instance;
-  return instance;
-}
 
 // A draw beyond r from the normal's tail (Marsaglia 1964), with the sign given.
 double tail(Rng& rng, bool negative) {
@@ -50,11 +25,30 @@ double tail(Rng& rng, bool negative) {
 
 }  // namespace
 
+ZigguratTables::ZigguratTables() {
+  double f = density(kTailStart);
+  edge[0] = kStripArea / f;
+  edge[1] = kTailStart;
+  edge[kStrips] = 0.0;
+  for (int i = 2; i < kStrips; ++i) {
+    edge[i] = std::sqrt(-2.0 * std::log(kStripArea / edge[i - 1] + f));
+    f = density(edge[i]);
+  }
+  for (int i = 0; i < kStrips; ++i) ratio[i] = edge[i + 1] / edge[i];
+}
+
+const ZigguratTables& ziggurat_tables() {
+  static const ZigguratTables instance;
+  return instance;
+}
+
 double ziggurat_normal(Rng& rng) {
-  const Tables& t = tables();
+  return ziggurat_normal_inline(rng, ziggurat_tables());
+}
+
+double ziggurat_normal_rest(Rng& rng, std::uint64_t bits) {
+  const ZigguratTables& t = ziggurat_tables();
   for (;;) {
-    const std::uint64_t bits = rng.next_u64();
-    // The top 53 bits give u in [-1, 1); the low 7 bits, unused by u, pick the strip.
     const double u = static_cast<double>(bits >> 11) * 0x1.0p-52 - 1.0;
     const int strip = static_cast<int>(bits & (kStrips - 1));
     if (std::abs(u) < t.ratio[strip]) return u * t.edge[strip];
@@ -64,6 +58,7 @@ double ziggurat_normal(Rng& rng) {
     const double outer = density(t.edge[strip]) / density(x);
     const double inner = density(t.edge[strip + 1]) / density(x);
     if (inner + rng.uniform() * (outer - inner) < 1.0) return x;
+    bits = rng.next_u64();
   }
 }
 

@@ -39,11 +39,18 @@ void DepthNoise::apply(const float* depth_m, float* out_m, std::size_t count, do
     throw std::invalid_argument("depth must hold values >= 0 (+inf allowed), no NaN");
   }
   const double step = spec_.inverse_depth_step_per_m;
+  const ZigguratTables& tables = ziggurat_tables();
+  const auto far = static_cast<float>(far_m);
   for (std::size_t i = 0; i < count; ++i) {
     const double z = depth_m[i];
-    double noisy = z + sigma_m(z) * ziggurat_normal(rng_);
+    const double n = ziggurat_normal_inline(rng_, tables);    // drawn for every pixel
+    if (z >= far_m) {               // no return: far_m whatever was drawn
+      out_m[i] = far;
+      continue;
+    }
+    double noisy = z + sigma_m(z) * n;
     if (step > 0.0 && noisy > 0.0) noisy = 1.0 / (step * std::round(1.0 / (step * noisy)));
-    out_m[i] = static_cast<float>(z >= far_m ? far_m : std::clamp(noisy, near_m, far_m));
+    out_m[i] = static_cast<float>(std::clamp(noisy, near_m, far_m));
   }
 }
 

@@ -16,12 +16,13 @@
   core), for the operator where he is or stood where a tracker puts him.
 """
 import math
+import struct
 
+import numpy as np
 import rospy
-from geometry_msgs.msg import Point
 from std_msgs.msg import Bool, Float64
 
-from epuck_vrep_compat.cell.separation import NoOperator, operator_separation
+from epuck_vrep_compat.cell.separation import NoOperator, separations
 from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.topics import (
     OPERATOR_SEPARATION_SERVICE, SAFETY_STOP_TOPIC, SPEED_SCALE_TOPIC)
@@ -30,8 +31,35 @@ from epuck_vrep_compat.ros.messages import time_stamp
 from epuck_vrep_compat.srv import OperatorSeparation, OperatorSeparationResponse
 
 
-def _point(p):
-    return Point(float(p[0]), float(p[1]), float(p[2]))
+_COUNT = struct.Struct("<I")
+
+
+class _SeparationResponse(OperatorSeparationResponse):
+    """A successful answer written to the wire from the stacked :class:`Separations` (the
+    same bytes as the message's own serialisation of its lists and points, without a
+    ``geometry_msgs/Point`` per link and value: 31 links, 93 points, twice a step)."""
+
+    def __init__(self, stamp, links):
+        super().__init__(success=True, stamp=stamp, robot=links.robot, link=links.link,
+                         distance=links.distance_m.tolist())
+        self.arrays = links
+
+    def serialize(self, buff):
+        buff.write(b"\x01")                                 # success, an empty message
+        buff.write(_COUNT.pack(0))
+        buff.write(struct.pack("<2I", self.stamp.secs, self.stamp.nsecs))
+        for names in (self.robot, self.link):
+            buff.write(_COUNT.pack(len(names)))
+            for name in names:
+                encoded = name.encode("utf-8")
+                buff.write(_COUNT.pack(len(encoded)))
+                buff.write(encoded)
+        links = self.arrays
+        buff.write(_COUNT.pack(len(links.robot)))
+        buff.write(np.ascontiguousarray(links.distance_m, dtype="<f8").tobytes())
+        for points in (links.operator_point, links.link_point, links.link_point_local):
+            buff.write(_COUNT.pack(len(points)))
+            buff.write(np.ascontiguousarray(points, dtype="<f8").tobytes())
 
 
 class CellSafety:
@@ -110,15 +138,10 @@ class CellSafety:
     def _on_separation(self, req):
         with self.sim.lock:                     # a query of the collision world the step moves
             try:
-                links = operator_separation(self.sim.cell, req.ground_truth, req.x, req.y)
+                links = separations(self.sim.cell, req.ground_truth, req.x, req.y)
             except (NoOperator, ValueError) as error:
                 self._log.warn("operator_separation", "%s: %s", OPERATOR_SEPARATION_SERVICE,
                                error)
                 return OperatorSeparationResponse(success=False, message=str(error))
             stamp = time_stamp(self.sim.time_s)
-        return OperatorSeparationResponse(
-            success=True, stamp=stamp, robot=[s.robot for s in links],
-            link=[s.link for s in links], distance=[s.distance_m for s in links],
-            operator_point=[_point(s.operator_point) for s in links],
-            link_point=[_point(s.link_point) for s in links],
-            link_point_local=[_point(s.link_point_local) for s in links])
+        return _SeparationResponse(stamp, links)

@@ -49,7 +49,8 @@ from epuck_vrep_compat.vrep.backend import VrepBackend
 
 MAX_STEPS_PER_CALL = 100000
 _LAG_RESET_S = 0.5       # behind schedule by more than this: stop trying to catch up
-_IDLE_SLEEP_S = 0.002    # poll period while paused, stopped or waiting for a trigger
+_IDLE_SLEEP_S = 0.01     # idle pass period while paused, stopped or waiting for a trigger
+                         # (a start or a trigger ends the wait at once)
 
 
 class SimulatorNode:
@@ -267,7 +268,7 @@ class SimulatorNode:
                     self._publish_faces(step, idle=True)
                     step.send_tf()
                     batch.flush()
-                time.sleep(_IDLE_SLEEP_S)
+                self.control.wait_until_may_step(_IDLE_SLEEP_S)
                 deadline = time.monotonic()
                 continue
             if self._lockstep is not None:
