@@ -206,6 +206,8 @@ class EpuckSwarm {
   double sensor_reach_m_ = 0.0;   // how far from the robot's vertical axis a cone reaches
   double sensor_z_min_m_ = 0.0;   // lowest and highest points a cone reaches
   double sensor_z_max_m_ = 0.0;
+  double sensor_height_m_ = 0.0;  // the first sensor's height above the ground
+  double sensor_ball_m_ = 0.0;    // how far a cone reaches from the robot's axis at that height
   std::uint64_t seed_;
   std::vector<Robot> robots_;
   std::uint64_t next_stream_ = 0;  // stream id of the next robot added

@@ -68,6 +68,11 @@ EpuckSwarm::EpuckSwarm(CollisionWorld& world, const EpuckModel& model, std::uint
     sensor_z_min_m_ = std::min(sensor_z_min_m_, sensor.position_m.z() - sensor.max_range_m);
     sensor_z_max_m_ = std::max(sensor_z_max_m_, sensor.position_m.z() + sensor.max_range_m);
   }
+  sensor_height_m_ = model_.sensors.front().position_m.z();
+  for (const ConeSensor& sensor : model_.sensors) {
+    const Vec3 from_axis = sensor.position_m - Vec3(0.0, 0.0, sensor_height_m_);
+    sensor_ball_m_ = std::max(sensor_ball_m_, from_axis.norm() + sensor.max_range_m);
+  }
 }
 
 int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
@@ -395,6 +400,12 @@ void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterato
     if (dx * dx + dy * dy > reach_m * reach_m ||
         candidate.centre_m.z() - candidate.radius_m > sensor_z_max_m_ + 1e-9 ||
         candidate.centre_m.z() + candidate.radius_m < sensor_z_min_m_ - 1e-9) {
+      continue;
+    }
+    // A body whose closest point lies beyond every cone's reach from the robot (a wall whose
+    // enclosing sphere is large but which stands farther away) cannot be seen either.
+    if (ray_target(**it, Vec3(pose.x_m, pose.y_m, sensor_height_m_)).min_distance_m >
+        sensor_ball_m_ + 1e-9) {
       continue;
     }
     candidates_.push_back(candidate);
