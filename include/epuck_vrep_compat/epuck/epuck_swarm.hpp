@@ -169,6 +169,8 @@ class EpuckSwarm {
     Vec3 gyro = Vec3::Zero();
     std::vector<SensorOutput> sensors;
     std::vector<RangeNoise> ir_noise;
+    bool ir_noise_on = false;      // some sensor's noise probability is above zero
+    bool sensors_blank = false;    // every sensor reads nothing, as clear_sensors leaves it
     Vec3 accel_stddev = Vec3::Zero();
     Vec3 gyro_stddev = Vec3::Zero();
     Vec3 accel_bias = Vec3::Zero();
@@ -182,11 +184,13 @@ class EpuckSwarm {
   Robot& robot_at(int index);
   void seed_streams(Robot& robot) const;
   void clear_motion(Robot& robot) const;
+  void clear_sensors(Robot& robot) const;
   Pose body_pose(const Pose2& pose) const;
   void move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s);
   void read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
   using NearbyIterator = std::vector<const Body*>::const_iterator;
   void find_nearby(bool world_changed);
+  void find_nearby_among(const std::vector<const Body*>& bodies, double reach_m);
   void read_proximity(Robot& robot, const Quat& heading, NearbyIterator begin,
                       NearbyIterator end);
   template <typename Get>
@@ -202,6 +206,8 @@ class EpuckSwarm {
   double sensor_reach_m_ = 0.0;   // how far from the robot's vertical axis a cone reaches
   double sensor_z_min_m_ = 0.0;   // lowest and highest points a cone reaches
   double sensor_z_max_m_ = 0.0;
+  double sensor_height_m_ = 0.0;  // the first sensor's height above the ground
+  double sensor_ball_m_ = 0.0;    // how far a cone reaches from the robot's axis at that height
   std::uint64_t seed_;
   std::vector<Robot> robots_;
   std::uint64_t next_stream_ = 0;  // stream id of the next robot added
@@ -215,6 +221,11 @@ class EpuckSwarm {
   std::vector<const Body*> nearby_;
   std::vector<Eigen::Vector2d> nearby_anchor_m_;  // each robot's x, y when they were found
   std::vector<ConeCandidate> candidates_;          // scratch: one robot's, for its cones
+  struct BodyBox {                                 // a body's box in the plane
+    Eigen::Vector2d low_m, high_m;
+    const Body* body;
+  };
+  std::vector<BodyBox> body_boxes_;                // scratch of find_nearby_among
   std::vector<Pose2> start_;                       // scratch of step(): poses at its start
   std::vector<MovableBody> bodies_;                // scratch of step(): bodies to resolve
   std::vector<char> touched_;                      // scratch of step(): contacts found

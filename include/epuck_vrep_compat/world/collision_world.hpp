@@ -119,6 +119,9 @@ class CollisionWorld {
   const Body& body(int handle) const;
   /// Every handle, ascending.
   std::vector<int> handles() const;
+  /// Every object, in handle order (for the core's own queries: a small world's few objects
+  /// tested one by one, without the broadphase). Valid until an object is added or removed.
+  const std::vector<const Body*>& bodies_in_handle_order() const { return ordered_; }
   /// Changes an object's colour (0..1 per channel). Throws UnknownHandle.
   void set_color(int handle, const Vec3& rgb);
   /// The colour seen where a camera ray hits nothing.
@@ -177,6 +180,7 @@ class CollisionWorld {
   std::unique_ptr<btDbvtBroadphase> broadphase_;
   std::unique_ptr<btCollisionWorld> world_;
   std::unordered_map<int, std::unique_ptr<Body>> bodies_;
+  std::vector<const Body*> ordered_;  // bodies_'s, in handle order
   Vec3 background_rgb_{0.55, 0.6, 0.65};
   std::uint64_t revision_ = 0;
   // Bodies whose broadphase boxes are stale, in the order they first moved since the last

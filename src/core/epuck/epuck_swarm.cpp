@@ -68,6 +68,11 @@ EpuckSwarm::EpuckSwarm(CollisionWorld& world, const EpuckModel& model, std::uint
     sensor_z_min_m_ = std::min(sensor_z_min_m_, sensor.position_m.z() - sensor.max_range_m);
     sensor_z_max_m_ = std::max(sensor_z_max_m_, sensor.position_m.z() + sensor.max_range_m);
   }
+  sensor_height_m_ = model_.sensors.front().position_m.z();
+  for (const ConeSensor& sensor : model_.sensors) {
+    const Vec3 from_axis = sensor.position_m - Vec3(0.0, 0.0, sensor_height_m_);
+    sensor_ball_m_ = std::max(sensor_ball_m_, from_axis.norm() + sensor.max_range_m);
+  }
 }
 
 int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
@@ -98,12 +103,18 @@ void EpuckSwarm::clear_motion(Robot& robot) const {
   robot.accel = Vec3(0.0, 0.0, model_.gravity_m_s2);
   robot.gyro.setZero();
   robot.in_contact = false;
+  clear_sensors(robot);
+}
+
+// Every cone of the robot reads nothing: no handle, no point, the maximum range.
+void EpuckSwarm::clear_sensors(Robot& robot) const {
   robot.sensors.clear();
   for (const ConeSensor& sensor : model_.sensors) {
     SensorOutput nothing;
     nothing.clean_m = nothing.noisy_m = sensor.max_range_m;
     robot.sensors.push_back(nothing);
   }
+  robot.sensors_blank = true;
 }
 
 void EpuckSwarm::remove_robot(int index) {
@@ -162,8 +173,10 @@ void EpuckSwarm::set_ir_noise(const Eigen::Ref<const RowMatrixXd>& probability,
     }
   }
   for (int i = 0; i < size(); ++i) {
+    robots_[i].ir_noise_on = false;
     for (int k = 0; k < sensor_count(); ++k) {
       robots_[i].ir_noise[k] = RangeNoise{probability(i, k), mean_m(i, k), stddev_m(i, k)};
+      robots_[i].ir_noise_on = robots_[i].ir_noise_on || probability(i, k) > 0.0;
     }
   }
 }
@@ -322,17 +335,54 @@ void EpuckSwarm::find_nearby(bool world_changed) {
   }
   if (!rebuild) return;
   const double reach_m = sensor_reach_m_ + margin_m;
+  nearby_anchor_m_.resize(robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    nearby_anchor_m_[i] = Eigen::Vector2d(robots_[i].pose.x_m, robots_[i].pose.y_m);
+  }
+  const std::vector<const Body*>& bodies = world_.bodies_in_handle_order();
+  if (bodies.size() <= kSmallWorld) {
+    find_nearby_among(bodies, reach_m);
+    return;
+  }
   std::vector<BoxQuery> boxes;
   boxes.reserve(robots_.size());
-  nearby_anchor_m_.resize(robots_.size());
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     const Pose2& pose = robots_[i].pose;
     boxes.push_back(BoxQuery{Vec3(pose.x_m - reach_m, pose.y_m - reach_m, sensor_z_min_m_),
                              Vec3(pose.x_m + reach_m, pose.y_m + reach_m, sensor_z_max_m_),
                              robots_[i].handle});
-    nearby_anchor_m_[i] = Eigen::Vector2d(pose.x_m, pose.y_m);
   }
   overlap_query_batch(world_, boxes, kSensorMask, nearby_first_, nearby_);
+}
+
+// find_nearby in a small world (@p bodies, in handle order): every body's box against every
+// robot's, without the broadphase, whose boxes then need no update. The boxes are those the
+// broadphase would hold, less its fattening (Bullet's getAabb of each shape where it is); a
+// robot's is its cones' reach widened by the margin, as find_nearby queries it.
+void EpuckSwarm::find_nearby_among(const std::vector<const Body*>& bodies, double reach_m) {
+  body_boxes_.clear();
+  for (const Body* body : bodies) {
+    if ((body->group & kSensorMask) == 0) continue;
+    btVector3 low, high;
+    body->shape->getAabb(body->object->getWorldTransform(), low, high);
+    if (low.z() > sensor_z_max_m_ || high.z() < sensor_z_min_m_) continue;
+    body_boxes_.push_back(BodyBox{Eigen::Vector2d(low.x(), low.y()),
+                                  Eigen::Vector2d(high.x(), high.y()), body});
+  }
+  nearby_first_.assign(robots_.size() + 1, 0);
+  nearby_.clear();
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const Pose2& pose = robots_[i].pose;
+    for (const BodyBox& box : body_boxes_) {
+      if (box.low_m.x() > pose.x_m + reach_m || box.high_m.x() < pose.x_m - reach_m ||
+          box.low_m.y() > pose.y_m + reach_m || box.high_m.y() < pose.y_m - reach_m ||
+          box.body->handle == robots_[i].handle) {
+        continue;
+      }
+      nearby_.push_back(box.body);
+    }
+    nearby_first_[i + 1] = nearby_.size();
+  }
 }
 
 // [@p begin, @p end): what the robot's cones may see (from find_nearby); of these, only what
@@ -352,8 +402,22 @@ void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterato
         candidate.centre_m.z() + candidate.radius_m < sensor_z_min_m_ - 1e-9) {
       continue;
     }
+    // A body whose closest point lies beyond every cone's reach from the robot (a wall whose
+    // enclosing sphere is large but which stands farther away) cannot be seen either.
+    if (ray_target(**it, Vec3(pose.x_m, pose.y_m, sensor_height_m_)).min_distance_m >
+        sensor_ball_m_ + 1e-9) {
+      continue;
+    }
     candidates_.push_back(candidate);
   }
+  if (candidates_.empty() && !robot.ir_noise_on) {
+    // Nothing nearby and no noise: every cone reads nothing, as clear_motion leaves it, and
+    // every IR draw is owed (as below, sensor by sensor).
+    if (!robot.sensors_blank) clear_sensors(robot);
+    robot.ir_draws_owed += robot.sensors.size();
+    return;
+  }
+  robot.sensors_blank = false;
   const Vec3 centre(pose.x_m, pose.y_m, 0.0);
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
     const ConeSensor& sensor = model_.sensors[k];

@@ -101,6 +101,14 @@ struct Neighbour {
   long listed;  // index of a listed body, whose shape moves with it; -1 if it stays put
 };
 
+// A body of a small world at a rebuild of the neighbour lists (ContactFinder::describe_all).
+struct Described {
+  PlanarShape shape;
+  long listed;            // as Neighbour's
+  Eigen::Vector2d low_m;  // a box in the plane that holds the body
+  Eigen::Vector2d high_m;
+};
+
 }  // namespace
 
 // The neighbour lists and what they were built for; kept in a ContactCache between calls.
@@ -123,6 +131,7 @@ struct ContactCache::State {
     std::vector<std::size_t> found_first;
     std::vector<BoxQuery> queries;                 // the rebuild's, one per cylinder
     std::vector<std::size_t> circles;              // the cylinders' indices, ascending
+    std::vector<Described> described;              // a small world's bodies, in handle order
     std::vector<char> active, next_active;         // bodies to visit in this pass, the next
     std::vector<Touch> touches;                    // one body's contacts
   } scratch;
@@ -148,7 +157,7 @@ class ContactFinder {
       : world_(world), bodies_(bodies), state_(state), shape_(state.scratch.shape),
         dirty_(state.scratch.dirty), moved_(state.scratch.moved), found_(state.scratch.found),
         found_first_(state.scratch.found_first), queries_(state.scratch.queries),
-        circles_(state.scratch.circles) {
+        circles_(state.scratch.circles), described_(state.scratch.described) {
     shape_.assign(bodies.size(), PlanarShape());
     dirty_.assign(bodies.size(), 0);
     moved_.clear();
@@ -281,33 +290,48 @@ class ContactFinder {
 
   // Lists for each upright cylinder, in handle order, what could touch it before some body
   // has drifted half the margin (two bodies then close a gap of one margin at most): the
-  // broadphase finds what lies in the margin of each cylinder's box, the exact gap decides.
+  // exact gap decides, among what the broadphase finds in the margin of each cylinder's box or,
+  // in a small world, among every body whose box comes that near (without the broadphase,
+  // whose boxes then need no update).
   void rebuild_neighbours() {
     sync();
-    queries_.clear();
-    circles_.clear();
-    int mask = 0;
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-      if (shape_[i].kind != PlanarShape::Kind::kCircle) continue;
-      const UprightCircle circle = shape_now(i).circle;
-      const double reach_m = circle.radius_m + kNeighbourMargin_m;
-      queries_.push_back(BoxQuery{
-          Vec3(circle.centre_m.x() - reach_m, circle.centre_m.y() - reach_m, circle.z_min_m),
-          Vec3(circle.centre_m.x() + reach_m, circle.centre_m.y() + reach_m, circle.z_max_m),
-          state_.self[i]->handle});
-      circles_.push_back(i);
-      mask |= contact_mask(state_.self[i]->group);
+    const std::vector<const Body*>& everything = world_.bodies_in_handle_order();
+    const bool small = everything.size() <= kSmallWorld;
+    if (small) {
+      describe_all(everything);
+    } else {
+      query_broadphase();
     }
-    overlap_query_batch(world_, queries_, mask, found_first_, found_);
     std::vector<Neighbour>& neighbours = state_.neighbours;
     neighbours.clear();
     state_.first.assign(bodies_.size() + 1, 0);
     for (std::size_t q = 0, i = 0; i < bodies_.size(); ++i) {
-      if (q < circles_.size() && circles_[q] == i) {
-        const UprightCircle self = shape_now(i).circle;
+      if (shape_[i].kind != PlanarShape::Kind::kCircle) {
+        state_.first[i + 1] = neighbours.size();
+        continue;
+      }
+      const UprightCircle self = shape_now(i).circle;
+      const int mask = contact_mask(state_.self[i]->group);
+      if (small) {
+        const double reach_m = self.radius_m + kNeighbourMargin_m + 1e-9;
+        for (std::size_t k = 0; k < everything.size(); ++k) {
+          const Body& other = *everything[k];
+          const Described& seen = described_[k];
+          if (&other == state_.self[i] || (other.group & mask) == 0 ||
+              seen.low_m.x() > self.centre_m.x() + reach_m ||
+              seen.high_m.x() < self.centre_m.x() - reach_m ||
+              seen.low_m.y() > self.centre_m.y() + reach_m ||
+              seen.high_m.y() < self.centre_m.y() - reach_m) {
+            continue;
+          }
+          if (within_reach(self, seen.shape, other, kNeighbourMargin_m)) {
+            neighbours.push_back(Neighbour{&other, seen.listed});
+          }
+        }
+      } else {
         for (std::size_t k = found_first_[q]; k < found_first_[q + 1]; ++k) {
           const Body& other = *found_[k];
-          if ((other.group & contact_mask(state_.self[i]->group)) == 0) continue;
+          if ((other.group & mask) == 0) continue;
           const long listed = listed_index(other.handle);
           const PlanarShape shape = listed >= 0 ? shape_now(listed) : planar_shape(other);
           if (within_reach(self, shape, other, kNeighbourMargin_m)) {
@@ -325,6 +349,62 @@ class ContactFinder {
       state_.anchor_m[i] = position(i);
     }
     max_drift_squared_ = 0.0;
+  }
+
+  // The broadphase's answers for each upright cylinder's box widened by the margin: the
+  // cylinders' indices in circles_, what each box finds in found_ from found_first_.
+  void query_broadphase() {
+    queries_.clear();
+    circles_.clear();
+    int mask = 0;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (shape_[i].kind != PlanarShape::Kind::kCircle) continue;
+      const UprightCircle circle = shape_now(i).circle;
+      const double reach_m = circle.radius_m + kNeighbourMargin_m;
+      queries_.push_back(BoxQuery{
+          Vec3(circle.centre_m.x() - reach_m, circle.centre_m.y() - reach_m, circle.z_min_m),
+          Vec3(circle.centre_m.x() + reach_m, circle.centre_m.y() + reach_m, circle.z_max_m),
+          state_.self[i]->handle});
+      circles_.push_back(i);
+      mask |= contact_mask(state_.self[i]->group);
+    }
+    overlap_query_batch(world_, queries_, mask, found_first_, found_);
+  }
+
+  // Each of a small world's bodies (@p everything) where it is now: its shape, the listed body
+  // it is (-1 for none) and a box in the plane that holds it (a bounding square for a shape
+  // without closed form).
+  void describe_all(const std::vector<const Body*>& everything) {
+    described_.resize(everything.size());
+    for (std::size_t k = 0; k < everything.size(); ++k) {
+      Described& seen = described_[k];
+      seen.listed = listed_index(everything[k]->handle);
+      seen.shape = seen.listed >= 0 ? shape_now(seen.listed) : planar_shape(*everything[k]);
+      Eigen::Vector2d centre_m = Eigen::Vector2d::Zero(), half_m = Eigen::Vector2d::Zero();
+      switch (seen.shape.kind) {
+        case PlanarShape::Kind::kCircle:
+          centre_m = seen.shape.circle.centre_m;
+          half_m.setConstant(seen.shape.circle.radius_m);
+          break;
+        case PlanarShape::Kind::kRectangle: {
+          const UprightRectangle& box = seen.shape.rectangle;
+          centre_m = box.centre_m;
+          half_m = box.axis_x.cwiseAbs() * box.half_extents_m.x() +
+                   box.axis_y.cwiseAbs() * box.half_extents_m.y();
+          break;
+        }
+        case PlanarShape::Kind::kOther: {
+          const BoundingSphere sphere = CollisionWorld::bounding_sphere(*everything[k]);
+          centre_m = sphere.centre_m.head<2>();
+          half_m.setConstant(sphere.radius_m);
+          break;
+        }
+      }
+      // Widened a little: rounding must never drop a body that within_reach would keep.
+      half_m = half_m * (1.0 + 1e-9) + Eigen::Vector2d::Constant(1e-9);
+      seen.low_m = centre_m - half_m;
+      seen.high_m = centre_m + half_m;
+    }
   }
 
   // Bullet's contacts of body i; with @p only_other_shapes, only those with bodies that have no
@@ -376,6 +456,7 @@ class ContactFinder {
   std::vector<std::size_t>& found_first_;
   std::vector<BoxQuery>& queries_;
   std::vector<std::size_t>& circles_;
+  std::vector<Described>& described_;
 };
 
 }  // namespace

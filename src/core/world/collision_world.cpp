@@ -146,6 +146,9 @@ void CollisionWorld::add_body(std::unique_ptr<Body> body, const Pose& pose) {
   body->object->setUserPointer(body.get());
   world_->addCollisionObject(body->object.get(), body->group, contact_mask(body->group));
   tree_changed_ = true;
+  const auto at = std::lower_bound(ordered_.begin(), ordered_.end(), body->handle,
+                                   [](const Body* a, int handle) { return a->handle < handle; });
+  ordered_.insert(at, body.get());
   bodies_.emplace(body->handle, std::move(body));
   ++revision_;
 }
@@ -214,6 +217,7 @@ void CollisionWorld::remove(int handle) {
   if (stale_.empty()) any_stale_.store(false, std::memory_order_relaxed);
   world_->removeCollisionObject(body.object.get());
   tree_changed_ = true;
+  ordered_.erase(std::find(ordered_.begin(), ordered_.end(), &body));
   bodies_.erase(handle);
   ++revision_;
 }
@@ -224,9 +228,8 @@ const Body& CollisionWorld::body(int handle) const { return find(handle); }
 
 std::vector<int> CollisionWorld::handles() const {
   std::vector<int> out;
-  out.reserve(bodies_.size());
-  for (const auto& entry : bodies_) out.push_back(entry.first);
-  std::sort(out.begin(), out.end());
+  out.reserve(ordered_.size());
+  for (const Body* body : ordered_) out.push_back(body->handle);
   return out;
 }
 

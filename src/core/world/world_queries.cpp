@@ -21,9 +21,8 @@ namespace evc {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Below these sizes a box query tests every object instead of descending Bullet's tree, and a
-// batch of box queries tests every (query, object) pair instead of building a grid.
-constexpr std::size_t kSmallWorld = 32;
+// Below this size a batch of box queries tests every (query, object) pair instead of building a
+// grid (and below kSmallWorld a box query tests every object instead of descending the tree).
 constexpr std::size_t kSmallBatch = 256;
 
 const Body& body_of(const btBroadphaseProxy* proxy) {
