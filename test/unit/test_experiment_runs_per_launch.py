@@ -2,7 +2,9 @@
 grouping of a cell's runs into launches, the launch file of a chunk (the user's nodes respawn,
 the probe gets every walk), and how a chunk's costs are split between its rows."""
 import copy
+import json
 import os
+import tempfile
 import xml.etree.ElementTree as ET
 
 import pytest
@@ -126,3 +128,43 @@ def test_a_chunks_wall_and_cpu_time_are_split_between_its_rows():
     assert (a["cpu_s"], b["cpu_s"]) == (13.2, 10.8)             # in proportion
     assert (a["startup_s"], a["stepping_s"], b["startup_s"], b["stepping_s"]) == (4, 6, 2, 6)
     assert a["teardown_s"] == b["teardown_s"] == 1.0
+
+
+# --- a launch that ends mid-chunk ---------------------------------------------------------------
+def fake_launch(done, monkeypatch, tmp_path):
+    """runner's launch and run faked: the launch writes the status of the walks ``done`` (by
+    index; "no_start" for the next one); a run alone gives an "alone" row."""
+    alone = []
+
+    def launch(lead, run_dir):
+        for i, walk in enumerate(lead.walks):
+            status = "done" if i in done else ("no_start" if i == len(done) else None)
+            if status:
+                with open(walk["out"][:-4] + ".status.json", "w") as f:
+                    json.dump({"status": status, "times": {"done": float(i)}}, f)
+        return {"cpu_s": 3.0, "times": {"launch": 0.0, "clean": 5.0}}
+
+    def execute_run(task):
+        alone.append(task.seed)
+        return {"run_key": task.key, "seed": task.seed, "status": "alone"}
+    monkeypatch.setattr(runner_chunk.runner, "launch", launch)
+    monkeypatch.setattr(runner_chunk.runner, "judge",
+                        lambda task, run_dir, outcome: {"status": "ok"})
+    monkeypatch.setattr(runner_chunk.runner, "execute_run", execute_run)
+    monkeypatch.setattr(runner_chunk.run_folders, "sweep_stale", lambda: None)
+    monkeypatch.setattr(runner_chunk.run_folders, "make",
+                        lambda experiment, key: tempfile.mkdtemp(dir=tmp_path))
+    return alone
+
+
+@pytest.mark.parametrize("done", [(0, 1, 2, 3), (0, 1), ()])
+def test_the_runs_a_launch_did_not_finish_are_run_alone_none_lost_none_twice(
+        done, monkeypatch, tmp_path):
+    s = spec_with(code=NODES_ONLY, seeds=4, runs_per_launch=4)
+    [chunk] = plan.chunks(s, plan.tasks(s)[:4])
+    alone = fake_launch(done, monkeypatch, tmp_path)
+    rows = runner_chunk.execute_chunk(chunk)
+    assert [r["run_key"] for r in rows] == [t.key for t in chunk]
+    assert [r["status"] for r in rows] == ["ok" if i in done else "alone" for i in range(4)]
+    assert alone == [t.seed for i, t in enumerate(chunk) if i not in done]
+    assert all(r["cpu_s"] > 0 for r in rows if r["status"] == "ok")
