@@ -77,8 +77,10 @@ def restart_nodes(deadline):
             xmlrpc.client.ServerProxy(uri).shutdown(me, "the next walk (runs_per_launch)")
         except OSError:
             pass                            # gone already: roslaunch restarts it all the same
+    asked = time.monotonic()
     while any(_alive(pid) for _uri, pid in old.values()):
         _check(deadline, "a node did not end when asked to")
+    ended = time.monotonic()
     back_early = [n for n, (uri, _) in old.items() if _uri_of(master, n) not in (None, uri)]
     if back_early:
         raise ChunkError(f"{', '.join(back_early)} came back before every node had gone "
@@ -89,6 +91,8 @@ def restart_nodes(deadline):
         if waiting:
             _check(deadline, f"{', '.join(sorted(waiting))} did not come back (launch it with "
                    "respawn=\"true\")")
+    rospy.loginfo("experiment_probe: %d nodes ended %.2f s after asked, back after %.2f s: %s",
+                  len(old), ended - asked, time.monotonic() - asked, ", ".join(sorted(old)))
 
 
 def _node_names(master):

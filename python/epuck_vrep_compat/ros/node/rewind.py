@@ -12,7 +12,7 @@ reseeded). Call it while no step is under way: paused, or synchronous with no tr
 """
 import rospy
 
-from epuck_vrep_compat.builder.streams import CELL_KINECT, CELL_LASER, stream_seed
+from epuck_vrep_compat.builder.build import rewind_simulation
 from epuck_vrep_compat.compat.topics import REWIND_SERVICE
 from epuck_vrep_compat.srv import Rewind, RewindResponse
 
@@ -25,34 +25,24 @@ class RewindService:
         self._node = node
         self._service = rospy.Service(REWIND_SERVICE, Rewind, self._on_rewind)
 
-    def _refusal(self, req):
-        sim = self._node.sim
-        if not 0 <= req.seed < 2 ** 63:
-            return f"seed {req.seed} must be a non-negative integer"
-        if req.operator_walk_seed < -1:
-            return f"operator_walk_seed {req.operator_walk_seed} must be >= 0 (or -1: keep)"
-        if req.operator_walk_seed >= 0 and (sim.cell is None or sim.cell.operator is None):
-            return "operator_walk_seed: the scene has no cell operator"
-        if sim.epuck2 is not None and req.seed != sim.seed:
-            return "a new seed with the e-puck2's sensors (their streams are not reseeded)"
-        return None
-
     def _on_rewind(self, req):
-        refusal = self._refusal(req)
+        refusal = None
+        if not 0 <= req.seed < 2 ** 63:
+            refusal = f"seed {req.seed} must be a non-negative integer"
+        elif req.operator_walk_seed < -1:
+            refusal = f"operator_walk_seed {req.operator_walk_seed} must be >= 0 (or -1: keep)"
         if refusal:
             rospy.logwarn("rewind refused: %s", refusal)
             return RewindResponse(False, refusal)
         node = self._node
-        sim = node.sim
-        node.control.rewind()           # no step starts from here on
-        with sim.lock:
-            sim.seed = sim.epucks.seed = int(req.seed)
-            if sim.cell is not None:
-                sim.cell.laser_seed = stream_seed(req.seed, CELL_LASER)
-                sim.cell.kinect_seed = stream_seed(req.seed, CELL_KINECT)
-                if req.operator_walk_seed >= 0:
-                    sim.cell.operator.rewalk(req.operator_walk_seed)
-            sim.rewind()
+        walk_seed = req.operator_walk_seed if req.operator_walk_seed >= 0 else None
+        with node.sim.lock:
+            try:
+                rewind_simulation(node.sim, req.seed, walk_seed)
+            except ValueError as e:
+                rospy.logwarn("rewind refused: %s", e)
+                return RewindResponse(False, str(e))
+            node.control.rewind()
             if node.lockstep is not None:
                 node.lockstep.restart()
             if node.cell is not None:
