@@ -18,11 +18,12 @@ from epuck_vrep_compat.srv import Rewind, RewindResponse
 
 
 class RewindService:
-    """The service of ``node`` (a :class:`~epuck_vrep_compat.ros.node.simulator_node.
-    SimulatorNode`)."""
+    """The service, for the node's simulation, its control, its faces' lock-step (or None) and
+    the cell's face (or None)."""
 
-    def __init__(self, node):
-        self._node = node
+    def __init__(self, sim, control, lockstep, cell_face):
+        self._sim, self._control, self._lockstep, self._cell_face = (sim, control, lockstep,
+                                                                     cell_face)
         self._service = rospy.Service(REWIND_SERVICE, Rewind, self._on_rewind)
 
     def _on_rewind(self, req):
@@ -34,19 +35,18 @@ class RewindService:
         if refusal:
             rospy.logwarn("rewind refused: %s", refusal)
             return RewindResponse(False, refusal)
-        node = self._node
         walk_seed = req.operator_walk_seed if req.operator_walk_seed >= 0 else None
-        with node.sim.lock:
+        with self._sim.lock:
             try:
-                rewind_simulation(node.sim, req.seed, walk_seed)
+                rewind_simulation(self._sim, req.seed, walk_seed)
             except ValueError as e:
                 rospy.logwarn("rewind refused: %s", e)
                 return RewindResponse(False, str(e))
-            node.control.rewind()
-            if node.lockstep is not None:
-                node.lockstep.restart()
-            if node.cell is not None:
-                node.cell.restart()
+            self._control.rewind()
+            if self._lockstep is not None:
+                self._lockstep.restart()
+            if self._cell_face is not None:
+                self._cell_face.restart()
         rospy.loginfo("simulation rewound to t=0 with seed %d%s; paused", req.seed,
                       f", operator walk seed {req.operator_walk_seed}"
                       if req.operator_walk_seed >= 0 else "")

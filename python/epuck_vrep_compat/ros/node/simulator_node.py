@@ -111,14 +111,16 @@ class SimulatorNode:
         self.faces = [f for f in (faults, self.tf, self.epucks, self.extras, self.cell,
                                   self.vrep, self.cameras, self.leds, self.descriptions)
                       if f is not None]
+        self._advertise()
+        self.leds.publish(self._step_info())
+
+    def _advertise(self):
+        """Our own services (see the module's docstring)."""
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service(PAUSE_SERVICE, Empty, self._on_pause)
         rospy.Service(UNPAUSE_SERVICE, Empty, self._on_unpause)
         rospy.Service(RESET_SERVICE, Empty, self._on_reset)
-        self._rewind = RewindService(self)
-        self.leds.publish(self._step_info())
-
-    lockstep = property(lambda self: self._lockstep, doc="every face's lock-step, or None")
+        self._rewind = RewindService(self.sim, self.control, self._lockstep, self.cell)
 
     @property
     def batch(self):
