@@ -17,7 +17,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 FIXTURES = os.path.join(REPO, "test", "experiment_fixtures")
 with open(os.path.join(FIXTURES, "valid.yaml"), encoding="utf-8") as _f:
     VALID_RAW = yaml.safe_load(_f)
-# the fixtures' spec without its launch-file code entry (mine.launch declares no respawn)
+# the fixtures' spec without its launch-file code entry (mine.launch declares no respawn_nodes)
 NODES_ONLY = [c for c in VALID_RAW["code"] if "node" in c]
 
 
@@ -53,7 +53,7 @@ def test_a_bad_setting_is_refused_with_its_path(value, needle):
 
 
 def test_more_than_one_run_needs_respawning_launch_files_and_no_bags():
-    assert "declares no 'respawn' argument" in problems_of(runs_per_launch=2)
+    assert "declares no 'respawn_nodes' argument" in problems_of(runs_per_launch=2)
     assert "no bags" in problems_of(code=NODES_ONLY, runs_per_launch=2, bag_dir="/tmp/bags")
     spec_with(runs_per_launch=1)        # one run per launch: mine.launch as it is
 

@@ -18,6 +18,7 @@ PROBE = ("epuck_vrep_compat", "experiment_probe")
 # several runs per launch: the user's nodes come back this long after they end [s of wall
 # time], time for every other node of the launch to have ended first (probe_walks)
 RESPAWN_DELAY_S = 1.0
+RESPAWN_ARG = "respawn_nodes"    # a launch file's argument: its nodes (not a simulator) respawn
 
 
 def package_path(folders, env=None):
@@ -112,7 +113,7 @@ def _arg(name, value):
 def run_launch(run):
     """The XML of one run's launch file. ``run`` is a ``plan.RunTask``; with ``run.walks``
     (several runs in one launch), the user's nodes respawn (``RESPAWN_DELAY_S`` after they end)
-    and launch files that declare a ``respawn`` argument are given ``respawn:=true``, so that
+    and launch files that declare a ``respawn_nodes`` argument are given it true, so that
     the probe can start them again for each run (``probe_walks``)."""
     out = ["<launch>", '  <param name="/use_sim_time" value="true"/>',
            f'  <param name="/experiment/seed" value="{run.seed}"/>',
@@ -140,10 +141,10 @@ def _yaml(value):
 
 
 def _include(path, args, respawn):
-    """An ``<include>`` of ``path`` with ``args`` (and ``respawn:=true`` when asked and
+    """An ``<include>`` of ``path`` with ``args`` (and ``respawn_nodes:=true`` when asked and
     declared)."""
-    if respawn and "respawn" in (declared_args(path) or ()):
-        args = {**args, "respawn": True}
+    if respawn and RESPAWN_ARG in (declared_args(path) or ()):
+        args = {**args, RESPAWN_ARG: True}
     return ([f"  <include file={quoteattr(path)}>"]
             + [_arg(k, v) for k, v in sorted(args.items())] + ["  </include>"])
 

@@ -6,10 +6,11 @@ the user's nodes started again between them, so that each run's row is the row i
 launched alone), except in the cells that match an entry of ``alone`` (every NAME set to
 VALUE), which run one to a launch: those whose runs change what a rewind cannot restore (an
 object removed, a process killed that must stay dead). The runs' keys, rows and resume are
-those of runs launched alone. With K > 1 the code's launch files must declare a ``respawn``
-argument (their nodes must start again when the probe ends them between runs), and runs have
-no bag (``bag_dir``: one per launch).
+those of runs launched alone. With K > 1 the code's launch files must declare a
+``respawn_nodes`` argument (their nodes must start again when the probe ends them between
+runs), and runs have no bag (``bag_dir``: one per launch).
 """
+from epuck_vrep_compat.experiment.launch_files import RESPAWN_ARG
 
 NAME = "runs_per_launch"
 
@@ -45,9 +46,9 @@ def runs_per_launch(raw, problems, spec):
         for i, entry in enumerate(spec.get("code", [])):
             declared = entry.get("declared")
             if entry.get("kind") == "launch" and declared is not None and \
-                    "respawn" not in declared:
-                problems.add(("code", i, "launch"), f"declares no 'respawn' argument, which "
-                             f"{NAME} > 1 needs (its nodes start again for each run)")
+                    RESPAWN_ARG not in declared:
+                problems.add(("code", i, "launch"), f"declares no '{RESPAWN_ARG}' argument, "
+                             f"which {NAME} > 1 needs (its nodes start again for each run)")
     return {"runs": runs, "alone": alone}
 
 
