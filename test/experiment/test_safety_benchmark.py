@@ -46,19 +46,21 @@ def test_every_cell_one_walk_and_the_report(tmp_path):
     assert "roslaunch ssm_bench replay.launch seed:=" in report, report
 
 
-def first_cell_spec(folder, seeds):
+def first_cell_spec(folder, seeds, name="first_cell", **changes):
     """The shipped spec cut to its first cell (our supervisor at its defaults, no fault) and
-    ``seeds``, written to ``folder`` (its paths made absolute); returns its path."""
+    ``seeds``, with ``changes`` of its top keys, written to ``folder`` (its paths made
+    absolute); returns its path."""
     with open(os.path.join(EXPERIMENTS, "safety_ssm.yaml")) as f:
         spec = yaml.safe_load(f)
     spec["vary"] = {"list": spec["vary"]["list"][:1]}
     spec["seeds"] = seeds
+    spec.update(changes)
     spec["package_path"] = [os.path.join(EXPERIMENTS, p) for p in spec["package_path"]]
     spec["simulator"]["launch"] = os.path.join(EXPERIMENTS, spec["simulator"]["launch"])
     for entry in spec["code"]:
         if "launch" in entry:
             entry["launch"] = os.path.join(EXPERIMENTS, entry["launch"])
-    path = os.path.join(folder, "first_cell.yaml")
+    path = os.path.join(folder, f"{name}.yaml")
     with open(path, "w") as f:
         yaml.safe_dump(spec, f)
     return path
@@ -79,13 +81,39 @@ def test_the_same_walk_twice_gives_the_same_row(tmp_path):
         assert code == 0, h.explain(code, stdout, stderr)
         rows += h.record(tmp_path / f"out{k}")
     assert len(rows) == 2 and {r["status"] for r in rows} == {"ok"}, h.describe(rows)
-    a, b = (h.metrics_of(r) for r in rows)
+    assert same_metrics(*rows) == {}, same_metrics(*rows)
+    a = h.metrics_of(rows[0])
+    assert 0.0 < a["metric.productivity"] < 1.0 and a["metric.tracker_error_mean_m"] > 0.0, a
+
+
+def same_metrics(a, b):
+    """The metrics of rows ``a`` and ``b`` that differ (NaN equals NaN): {name: (a, b)}."""
+    a, b = h.metrics_of(a), h.metrics_of(b)
     assert a.keys() == b.keys() and len(a) > 10, (a, b)
-    differ = {k: (a[k], b[k]) for k in a if not (a[k] == b[k] or (
+    return {k: (a[k], b[k]) for k in a if not (a[k] == b[k] or (
         isinstance(a[k], float) and isinstance(b[k], float) and math.isnan(a[k])
         and math.isnan(b[k])))}
-    assert differ == {}, differ
-    assert 0.0 < a["metric.productivity"] < 1.0 and a["metric.tracker_error_mean_m"] > 0.0, a
+
+
+def test_walks_in_one_launch_give_the_rows_of_walks_launched_alone(tmp_path):
+    """Issue 26's runs_per_launch: seeds 0, 1, 2 of the first cell (6 s walks) in one launch
+    (the simulator rewound, the nodes started again between them) and each launched alone
+    (the two experiments at once): the same run keys and every metric the same to the last
+    digit, the walks after a rewind as well as the first."""
+    specs = [first_cell_spec(tmp_path, [0, 1, 2], f"k{k}", duration_s=6, runs_per_launch=k)
+             for k in (3, 1)]
+    procs = [h.start(h.command(spec, tmp_path / f"out{k}", "--workers", 1), tmp_path)
+             for k, spec in enumerate(specs)]
+    results = [h.finish(proc) for proc in procs]
+    for code, stdout, stderr in results:
+        assert code == 0, h.explain(code, stdout, stderr)
+    chunked, alone = (h.by_key(h.record(tmp_path / f"out{k}")) for k in (0, 1))
+    assert chunked.keys() == alone.keys() and len(chunked) == 3, h.describe(
+        list(chunked.values()) + list(alone.values()))
+    for key, row in chunked.items():
+        assert row["status"] == alone[key]["status"] == "ok", h.describe([row, alone[key]])
+        assert same_metrics(row, alone[key]) == {}, (row["seed"], same_metrics(row, alone[key]))
+        assert 0.0 < row["cpu_s"] and 0.0 < row["wall_s"], row
 
 
 def test_coverage_maps_of_both_layouts(tmp_path):

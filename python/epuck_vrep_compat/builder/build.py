@@ -69,3 +69,23 @@ def build_simulation(scene: Scene, config: SimulationConfig = None) -> Simulatio
         sim.fault_hook = FaultHook()
         sim.add_extension(sim.fault_hook)
     return sim
+
+
+def rewind_simulation(sim: Simulation, seed: int, walk_seed: int = None):
+    """``sim`` back to time 0 as :func:`build_simulation` made it, but seeded ``seed`` (its
+    noise streams derived by name as at build) and, with ``walk_seed``, the cell's operator
+    walking the walk of that seed (``~operator_walk_seed``'s). ValueError, changing nothing,
+    for a walk seed without a cell operator, or a new seed with the e-puck2's sensors (their
+    streams are not reseeded)."""
+    if walk_seed is not None and (sim.cell is None or sim.cell.operator is None):
+        raise ValueError("operator_walk_seed: the scene has no cell operator")
+    if sim.epuck2 is not None and seed != sim.seed:
+        raise ValueError("a new seed with the e-puck2's sensors (their streams are not "
+                         "reseeded)")
+    sim.seed = sim.epucks.seed = int(seed)
+    if sim.cell is not None:
+        sim.cell.laser_seed = stream_seed(seed, CELL_LASER)
+        sim.cell.kinect_seed = stream_seed(seed, CELL_KINECT)
+        if walk_seed is not None:
+            sim.cell.operator.rewalk(walk_seed)
+    sim.rewind()

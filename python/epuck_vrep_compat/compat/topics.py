@@ -14,6 +14,7 @@ INFO_TOPIC = NODE_NAMESPACE + "info"    # vrep_common/VrepInfo, the legacy plugi
 PAUSE_SERVICE = NODE_NAMESPACE + "pause"
 UNPAUSE_SERVICE = NODE_NAMESPACE + "unpause"
 RESET_SERVICE = NODE_NAMESPACE + "reset"
+REWIND_SERVICE = NODE_NAMESPACE + "rewind"     # ours: time back to 0, a new seed (experiments)
 
 # Each cell robot's topics and description, ``robot`` its ROS name (cell_names.ros_robot_name).
 JOINT_STATES_TOPIC = "/{robot}/joint_states"            # sensor_msgs/JointState, out

@@ -2,7 +2,9 @@
 
 By default a ``LocalCluster`` sized to the machine (one single-threaded worker process per
 core); given a scheduler address, any Dask cluster (``dask scheduler`` + ``dask worker`` on
-other machines, or dask-jobqueue's ``SLURMCluster``: see docs/experiments.md). A worker that
+other machines, or dask-jobqueue's ``SLURMCluster``: see docs/experiments.md). With the spec's
+``runs_per_launch``, one task runs several runs of a cell in one launch
+(``runner_chunk.py``) and gives their rows together; a failed one is retried alone. A worker that
 dies mid-run has its run rescheduled by Dask (its shepherd sees the worker gone and ends the
 run's processes); a run that fails (crashed code, time-out, nothing published) is retried once
 and then recorded as failed; neither stops the experiment. Ctrl-C ends the experiment: the
@@ -16,7 +18,7 @@ import uuid
 from dask.distributed import Client, LocalCluster, as_completed
 
 from epuck_vrep_compat.experiment import isolation, plan
-from epuck_vrep_compat.experiment.runner import execute_run
+from epuck_vrep_compat.experiment.runner_chunk import execute_chunk
 
 MAX_ATTEMPTS = 2
 
@@ -79,25 +81,25 @@ def run(spec, store, scheduler=None, workers=None, stream=sys.stderr):
         return 0, 0
     client, cluster = make_client(scheduler, workers)
     ok = failed = 0
+    futures, pending = as_completed(), {}
+
+    def submit(chunk):              # one launch: one run, or several of a cell (runs_per_launch)
+        key = f"run-{chunk[0].key}-{chunk[0].attempt}" + (f"-{len(chunk)}" if chunk[1:] else "")
+        pending[key] = chunk
+        futures.add(client.submit(execute_chunk, chunk, pure=False, key=key))
     try:
-        futures = as_completed()
-        for task in tasks:
-            futures.add(client.submit(execute_run, task, pure=False,
-                                      key=f"run-{task.key}-{task.attempt}"))
-        pending = {f"run-{t.key}-{t.attempt}": t for t in tasks}
+        for chunk in plan.chunks(spec, tasks):
+            submit(chunk)
         for future in futures:
-            task = pending.pop(future.key)
-            row = _row_of(future, task)
-            if row["status"] != "ok" and task.attempt < MAX_ATTEMPTS:
-                retry = task.with_attempt(task.attempt + 1)
-                pending[f"run-{retry.key}-{retry.attempt}"] = retry
-                futures.add(client.submit(execute_run, retry, pure=False,
-                                          key=f"run-{retry.key}-{retry.attempt}"))
-                continue
-            store.add(row)
-            progress.update(row)
-            ok += row["status"] == "ok"
-            failed += row["status"] != "ok"
+            chunk = pending.pop(future.key)
+            for task, row in zip(chunk, _rows_of(future, chunk)):
+                if row["status"] != "ok" and task.attempt < MAX_ATTEMPTS:
+                    submit([task.with_attempt(task.attempt + 1)])      # again, alone
+                    continue
+                store.add(row)
+                progress.update(row)
+                ok += row["status"] == "ok"
+                failed += row["status"] != "ok"
     finally:
         progress.close()
         client.close()
@@ -107,12 +109,13 @@ def run(spec, store, scheduler=None, workers=None, stream=sys.stderr):
     return ok, failed
 
 
-def _row_of(future, task):
-    """The run's row; a task Dask gave up on (its workers kept dying) is a failed row."""
+def _rows_of(future, chunk):
+    """The chunk's rows, in its order; a task Dask gave up on (its workers kept dying) gives
+    a failed row for each of its runs."""
     try:
         return future.result()
     except Exception as e:
-        return {"run_key": task.key, "seed": task.seed, "attempts": task.attempt,
-                "status": "failed", "error": f"{type(e).__name__}: {e}", "wall_s": 0.0,
-                "exit_code": None, "log_tail": "",
-                **{f"param.{k}": v for k, v in task.params.items()}}
+        return [{"run_key": task.key, "seed": task.seed, "attempts": task.attempt,
+                 "status": "failed", "error": f"{type(e).__name__}: {e}", "wall_s": 0.0,
+                 "exit_code": None, "log_tail": "",
+                 **{f"param.{k}": v for k, v in task.params.items()}} for task in chunk]

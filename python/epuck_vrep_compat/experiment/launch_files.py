@@ -15,6 +15,10 @@ import rospkg
 import yaml
 
 PROBE = ("epuck_vrep_compat", "experiment_probe")
+# several runs per launch: the user's nodes come back this long after they end [s of wall
+# time], time for every other node of the launch to have ended first (probe_walks)
+RESPAWN_DELAY_S = 1.0
+RESPAWN_ARG = "respawn_nodes"    # a launch file's argument: its nodes (not a simulator) respawn
 
 
 def package_path(folders, env=None):
@@ -107,22 +111,22 @@ def _arg(name, value):
 
 
 def run_launch(run):
-    """The XML of one run's launch file. ``run`` is a ``plan.RunTask``."""
+    """The XML of one run's launch file. ``run`` is a ``plan.RunTask``; with ``run.walks``
+    (several runs in one launch), the user's nodes respawn (``RESPAWN_DELAY_S`` after they end)
+    and launch files that declare a ``respawn_nodes`` argument are given it true, so that
+    the probe can start them again for each run (``probe_walks``)."""
     out = ["<launch>", '  <param name="/use_sim_time" value="true"/>',
            f'  <param name="/experiment/seed" value="{run.seed}"/>',
            f'  <param name="/experiment/run_key" value="{run.key}"/>']
     for name, value in sorted(run.global_params.items()):
         out.append(f"  <rosparam param={quoteattr(name)}>{_yaml(value)}</rosparam>")
-    out.append(f"  <include file={quoteattr(run.sim_launch)}>")
-    out += [_arg(k, v) for k, v in sorted(run.sim_args.items())]
-    out.append("  </include>")
+    respawn = bool(run.walks)
+    out += _include(run.sim_launch, run.sim_args, respawn)
     for entry in run.code:
         if entry["kind"] == "launch":
-            out.append(f"  <include file={quoteattr(entry['launch'])}>")
-            out += [_arg(k, v) for k, v in sorted(entry["args"].items())]
-            out.append("  </include>")
+            out += _include(entry["launch"], entry["args"], respawn)
         else:
-            out += _node(entry)
+            out += _node(entry, respawn)
     out += _probe(run)
     if run.bag_dir:
         out += _bag(run)
@@ -136,10 +140,21 @@ def _yaml(value):
     return escape(text[:-4] if text.endswith("\n...") else text.replace("\n...", ""))
 
 
-def _node(entry):
+def _include(path, args, respawn):
+    """An ``<include>`` of ``path`` with ``args`` (and ``respawn_nodes:=true`` when asked and
+    declared)."""
+    if respawn and RESPAWN_ARG in (declared_args(path) or ()):
+        args = {**args, RESPAWN_ARG: True}
+    return ([f"  <include file={quoteattr(path)}>"]
+            + [_arg(k, v) for k, v in sorted(args.items())] + ["  </include>"])
+
+
+def _node(entry, respawn=False):
     attrs = (f'pkg={quoteattr(entry["package"])} type={quoteattr(entry["type"])} '
              f'name={quoteattr(entry["name"])} ns={quoteattr(entry["namespace"])} '
              f'args={quoteattr(entry["args"])} output="log"')
+    if respawn:
+        attrs += f' respawn="true" respawn_delay="{RESPAWN_DELAY_S:g}"'
     out = [f"  <node {attrs}>"]
     for name, value in sorted(entry["params"].items()):
         out.append(f"    <rosparam param={quoteattr(name)}>{_yaml(value)}</rosparam>")
@@ -161,6 +176,8 @@ def _bag(run):
 def _probe(run):
     settings = {"duration_s": run.duration_s, "out": run.recording_path,
                 "topics": run.record, "pace": run.pace}
+    if run.walks:
+        settings["walks"] = run.walks
     return [f'  <node pkg="{PROBE[0]}" type="{PROBE[1]}" name="experiment_probe" '
             'required="true" output="log">',
             f"    <rosparam>{_yaml(settings)}</rosparam>", "  </node>"]

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from epuck_vrep_compat.experiment import launch_files, metrics
+from epuck_vrep_compat.experiment import launch_files, metrics, spec_launches
 
 
 @dataclass
@@ -38,6 +38,8 @@ class RunTask:
     marker: str = ""                   # the experiment's process marker (see runner)
     package_path: list = field(default_factory=list)   # folders of the user's ROS packages
     recording_path: str = field(default="", repr=False)   # set on the worker
+    # several runs in one launch (runs_per_launch): [{seed, key, out}], this run's first
+    walks: list = field(default_factory=list, repr=False)
 
     def with_attempt(self, attempt):
         task = copy.copy(self)
@@ -96,6 +98,22 @@ def tasks(spec, marker=""):
     for cell in cells(spec["vary"]):
         for seed in spec["seeds"]:
             out.append(_task(spec, cell, seed, marker))
+    return out
+
+
+def chunks(spec, tasks):
+    """``tasks`` (of :func:`tasks`, some perhaps done already) in launches: lists of runs of one
+    cell, in order, at most the cell's ``runs_per_launch`` each (``spec_launches``)."""
+    setting = spec.get("runs_per_launch") or {"runs": 1, "alone": []}
+    out = []
+    for task in tasks:
+        size = 1 if task.bag_dir else spec_launches.chunk_size(setting, task.params)
+        last = out[-1] if out else None
+        if last and len(last) < size and last[0].params == task.params \
+                and last[0].attempt == task.attempt:
+            last.append(task)
+        else:
+            out.append([task])
     return out
 
 

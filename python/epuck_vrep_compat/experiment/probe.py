@@ -34,7 +34,7 @@ from roslib.message import get_message_class
 from std_srvs.srv import Empty
 
 from epuck_vrep_compat.compat.topics import NODE_NAMESPACE, UNPAUSE_SERVICE
-from epuck_vrep_compat.experiment import flatten, metrics
+from epuck_vrep_compat.experiment import flatten, metrics, probe_walks
 
 START_TIMEOUT_S = 60.0
 GONE_POLL_S = 0.05     # how often a step's wait looks for wait_for topics left silent
@@ -109,6 +109,22 @@ class Probe:
         while any(s.get_num_connections() == 0 for s in self.subs):
             if time.monotonic() > deadline:
                 raise RuntimeError("could not connect to every recorded topic")
+            time.sleep(0.02)
+
+    def restart(self, out):
+        """As at the start, recording to ``out`` (a walk after the first: :mod:`probe_walks`)."""
+        with self.lock:
+            self.out = out
+            self.clock, self.late_steps, self.triggered, self.clocks = 0.0, 0, 0, 0
+            self.columns = {t: flatten.Columns(c.type_name, get_message_class(c.type_name))
+                            for t, c in self.columns.items()}
+            self.counts = {t: 0 for t in self.counts}
+
+    def reconnect(self, deadline):
+        """Until every recorded topic has a publisher connected again (the nodes restarted)."""
+        while any(s.get_num_connections() == 0 for s in self.subs):
+            if time.monotonic() > deadline or rospy.is_shutdown():
+                raise RuntimeError("could not connect to every recorded topic again")
             time.sleep(0.02)
 
     def start(self):
@@ -189,26 +205,35 @@ class Probe:
 
 def main():
     rospy.init_node("experiment_probe")
-    settings = {k: rospy.get_param("~" + k) for k in ("duration_s", "out", "topics", "pace")
-                if rospy.has_param("~" + k)}
+    settings = {k: rospy.get_param("~" + k) for k in ("duration_s", "out", "topics", "pace",
+                                                      "walks") if rospy.has_param("~" + k)}
     if "duration_s" not in settings or "out" not in settings:
         rospy.logfatal("experiment_probe needs ~duration_s and ~out")
         return 2
-    probe = Probe(settings)
+    walks = probe_walks.walks_of(settings)
+    probe = Probe({**settings, "out": walks[0]["out"]})
     rospy.Subscriber("/clock", Clock, probe.on_clock, queue_size=100)
-    try:
-        probe.subscribe(time.monotonic() + probe.pace.get("start_timeout_s", START_TIMEOUT_S))
-        probe.times["ready"] = time.time()
-        probe.start()
-        probe.times["started"] = time.time()
-    except (RuntimeError, rospy.ROSException, rospy.ServiceException) as e:
-        rospy.logerr(f"experiment_probe: the run did not start: {e}")
-        probe.write("no_start", str(e))
-        return 2
-    (probe.run_lockstep if probe.pace["mode"] == "lockstep" else probe.run_free)()
-    probe.write("done" if not rospy.is_shutdown() else "interrupted")
-    rospy.loginfo(f"experiment_probe: {probe.duration_s} s simulated, late steps "
-                  f"{probe.late_steps}; ending the run")
+    start_timeout_s = probe.pace.get("start_timeout_s", START_TIMEOUT_S)
+    for number, walk in enumerate(walks):
+        try:
+            if number == 0:
+                probe.subscribe(time.monotonic() + start_timeout_s)
+            else:
+                probe_walks.next_walk(probe, walk, start_timeout_s)
+            probe.times["ready"] = time.time()
+            probe.start()
+            probe.times["started"] = time.time()
+        except (RuntimeError, OSError, rospy.ROSException, rospy.ServiceException) as e:
+            rospy.logerr(f"experiment_probe: walk {number + 1} did not start: {e}")
+            probe.out = walk["out"]
+            probe.write("no_start", str(e))
+            return 2 if number == 0 else 0
+        (probe.run_lockstep if probe.pace["mode"] == "lockstep" else probe.run_free)()
+        probe.write("done" if not rospy.is_shutdown() else "interrupted")
+        rospy.loginfo(f"experiment_probe: walk {number + 1} of {len(walks)}: "
+                      f"{probe.duration_s} s simulated, late steps {probe.late_steps}")
+        if rospy.is_shutdown():
+            break
     return 0
 
 

@@ -39,8 +39,8 @@ def execute_run(task):
     row = {"run_key": task.key, "seed": task.seed, "attempts": task.attempt,
            **{f"param.{k}": v for k, v in task.params.items()}}
     try:
-        outcome = _launch(task, run_dir)
-        row.update(_judge(task, run_dir, outcome))
+        outcome = launch(task, run_dir)
+        row.update(judge(task, run_dir, outcome))
     except Exception as e:                  # a row, whatever happened: never a lost run
         row.update(status="failed", error=f"{type(e).__name__}: {e}", exit_code=None,
                    log_tail=_tail(run_dir))
@@ -56,10 +56,13 @@ def execute_run(task):
     return row
 
 
-def _launch(task, run_dir):
+def launch(task, run_dir):
     """Writes the run's launch file and runs it under a shepherd; retried on another port
-    when the master could not bind its port (another run took it first)."""
-    task.recording_path = os.path.join(run_dir, "recording.npz")
+    when the master could not bind its port (another run took it first). With ``task.walks``
+    the launch serves each walk in turn and ends after the last one's status."""
+    task.recording_path = (task.walks[0]["out"] if task.walks
+                           else os.path.join(run_dir, "recording.npz"))
+    last = task.walks[-1]["out"] if task.walks else task.recording_path
     with open(os.path.join(run_dir, "run.launch"), "w") as f:
         f.write(launch_files.run_launch(task))
     for _ in range(PORT_ATTEMPTS):
@@ -75,8 +78,9 @@ def _launch(task, run_dir):
             env["ROS_PACKAGE_PATH"] = launch_files.package_path(task.package_path, env)
         job = {"command": ["roslaunch", "--disable-title",
                            "-p", str(port), os.path.join(run_dir, "run.launch")],
-               "env": env, "timeout_s": task.timeout_s, "parent": os.getpid(),
-               "done_file": os.path.splitext(task.recording_path)[0] + ".status.json"}     # the worker: gone already -> orphaned
+               "env": env, "timeout_s": task.timeout_s * max(1, len(task.walks)),
+               "parent": os.getpid(),      # the worker: gone already -> orphaned
+               "done_file": os.path.splitext(last)[0] + ".status.json"}
         with open(os.path.join(run_dir, "shepherd_in.json"), "w") as f:
             json.dump(job, f)
         shepherd = subprocess.Popen([sys.executable, "-m", "epuck_vrep_compat.experiment.shepherd",
@@ -96,8 +100,10 @@ def _launch(task, run_dir):
     return outcome
 
 
-def _judge(task, run_dir, outcome):
-    status = _read_json(os.path.splitext(task.recording_path)[0] + ".status.json")
+def judge(task, run_dir, outcome):
+    """The row's status, error, costs and metrics of a run launched (``outcome``: the
+    shepherd's) whose recording is ``task.recording_path``."""
+    status = read_json(os.path.splitext(task.recording_path)[0] + ".status.json")
     log = _read(os.path.join(run_dir, "launch.log"))
     died = [(name, int(code)) for name, code in DIED.findall(log)
             if not name.startswith("experiment_probe") and int(code) not in (0, -2, -15)]
@@ -164,7 +170,8 @@ def _read(path):
         return ""
 
 
-def _read_json(path):
+def read_json(path):
+    """A JSON file's content, {} when it cannot be read."""
     try:
         with open(path) as f:
             return json.load(f)

@@ -26,7 +26,7 @@ import re
 
 import yaml
 
-from epuck_vrep_compat.experiment import launch_files, spec_code, spec_vary
+from epuck_vrep_compat.experiment import launch_files, spec_code, spec_launches, spec_vary
 from epuck_vrep_compat.experiment import spec_checks as checks
 from epuck_vrep_compat.experiment.spec_checks import SpecError
 from epuck_vrep_compat.experiment.spec_code import metrics_function
@@ -37,7 +37,8 @@ NAME_RE = re.compile(r"^[A-Za-z0-9_-]+$")
 CODE_NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 TOP_KEYS = {"name", "description", "package_path", "simulator", "code", "vary", "seeds",
             "duration_s",
-            "timeout_s", "metrics", "record", "bag_dir", "pace", "network", "reference"}
+            "timeout_s", "metrics", "record", "bag_dir", "pace", "network", "reference",
+            "runs_per_launch"}
 DEFAULT_SIM_LAUNCH = "epuck_vrep_compat/launch/epucks.launch"
 
 
@@ -85,6 +86,8 @@ def check(raw, lines, base_dir, path="<spec>"):
     if spec["network"] not in ("loopback", "all"):
         problems.add(("network",), "must be 'loopback' (the default: masters and nodes listen "
                                    "on 127.0.0.1 only) or 'all'")
+    spec["runs_per_launch"] = spec_launches.runs_per_launch(raw.get("runs_per_launch"),
+                                                            problems, spec)
     spec["reference"] = raw.get("reference", {})
     if not isinstance(spec["reference"], dict) or not all(
             isinstance(v, (int, float)) for v in spec["reference"].values()):
@@ -97,13 +100,14 @@ def check(raw, lines, base_dir, path="<spec>"):
 
 def spec_hash(spec):
     """What makes a run's result: everything but the list of cells and seeds, the texts and
-    the paths of the outputs (so adding seeds or cells keeps the runs already done). Files
+    the paths of the outputs (so adding seeds or cells keeps the runs already done), and how
+    many runs share a launch (a run's row is the same however many do). Files
     count by their contents, not where they are: a spec moved, or resumed on another machine
     with the same files, keeps its runs; so does every file under each ``package_path``
     folder (its scripts, nodes and included launch files), by path within it and contents."""
     keep = {k: v for k, v in spec.items()
             if k not in ("vary", "seeds", "description", "reference", "bag_dir", "base_dir",
-                         "hash", "timeout_s", "package_path", "custom")}
+                         "hash", "timeout_s", "package_path", "custom", "runs_per_launch")}
     keep["package_path"] = [folder_digest(folder) for folder in spec["package_path"]]
     keep["simulator"] = _portable(spec["simulator"])
     keep["code"] = [_portable(c) for c in spec["code"]]

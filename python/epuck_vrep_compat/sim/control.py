@@ -86,6 +86,14 @@ class SimulationControl:
         self._notify(STOPPED)
         return 1
 
+    def rewind(self):
+        """Paused at frame 0, free-running, no trigger pending: as built paused (a rewind)."""
+        with self._lock:
+            self.state = PAUSED
+            self.synchronous = False
+            self._triggers = 0
+            self._start_frame = 0
+
     def synchronous_triggers_reset(self):
         self._triggers = 0
 

@@ -150,3 +150,9 @@ class Simulation:
         commands cleared, noise streams restarted)."""
         for extension in self.extensions:
             extension.reset()
+
+    def rewind(self):
+        """Back to time 0 (frame 0), then :meth:`reset`: the world as it was built, for clients
+        that start again with it (time goes back, which :meth:`reset` alone never does)."""
+        self.frame = 0
+        self.reset()

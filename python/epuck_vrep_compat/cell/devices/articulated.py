@@ -229,9 +229,10 @@ class ArticulatedRobot:
 
     def reset(self):
         """Joints to zero (inside their limits) at rest with their URDF forces, base to its
-        start pose, script back on."""
+        start pose, script back on at full speed (no safety override)."""
         self.external = False
         self.script_time = 0.0
+        self.speed_scale = 1.0
         for joint in self.joints:
             joint.max_force = joint.rated_force     # a client's simSetJointForce ends here
         self.hold_at((self.spec.position_m[0], self.spec.position_m[1], self.spec.yaw_rad),

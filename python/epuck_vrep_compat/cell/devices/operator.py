@@ -9,6 +9,7 @@ from epuck_vrep_compat.cell.devices.operator_motion import PingPongPath, trace_p
 from epuck_vrep_compat.cell.devices.operator_walk import Floor, generate_walk
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, quat_from_yaw
+from epuck_vrep_compat.scene.operator_file import override_motion
 
 
 def operator_motion(spec, arena_size_m, robots):
@@ -25,11 +26,19 @@ def operator_motion(spec, arena_size_m, robots):
 class WalkingOperator:
     """Where the operator is at the time :meth:`seek` last set (0 at the start)."""
 
-    def __init__(self, spec, path, legs=None):
+    def __init__(self, spec, path, legs=None, arena_size_m=None, robots=()):
         self.spec = spec
         self.path = path                 # PingPongPath or TimedPath: .at(t), .duration_s
         self.legs = legs                 # a generated walk's legs, else None
         self.time_s = 0.0                # since the start or the last reset
+        self._floor = (arena_size_m, list(robots))     # what a new walk is generated on
+
+    def rewalk(self, walk_seed: int):
+        """From now on the walk of ``walk_seed`` (the scene's walk under that seed, as
+        ``~operator_walk_seed`` gives at build: :func:`override_motion`)."""
+        spec = override_motion(self.spec, walk_seed=walk_seed)
+        self.path, self.legs = operator_motion(spec, *self._floor)
+        self.spec = spec
 
     def seek(self, time_s: float):
         self.time_s = float(time_s)
@@ -75,7 +84,8 @@ def add_operator(spec, registry, world, arena_size_m, robots):
     """The operator of ``spec`` (an OperatorSpec) into the scene: its body (a cylinder whose
     pose follows his motion, :func:`operator_motion`) and head (a sphere on it), in the registry
     and the collision world. Returns (the WalkingOperator, (body handle, head handle))."""
-    operator = WalkingOperator(spec, *operator_motion(spec, arena_size_m, robots))
+    operator = WalkingOperator(spec, *operator_motion(spec, arena_size_m, robots),
+                               arena_size_m=arena_size_m, robots=robots)
     base = registry.add(spec.name, vc.OBJECT_SHAPE, vc.WORLD, pose_source=operator.pose,
                         properties=dict(shape="cylinder", color=spec.color))
     world.add_cylinder(base.handle, spec.body_radius_m, spec.body_height_m, np.zeros(3),

@@ -56,6 +56,10 @@ class CellFace(Face):
         self._transforms.index()
         self._rviz.publish_markers()
 
+    def restart(self):
+        """After a rewind (under the lock): the safety topics as built."""
+        self._safety.restart()
+
     def publish(self, step: Step):
         """TF, the laser scan when the cell took one, the joint states."""
         batch, stamp = step.batch, step.stamp

@@ -116,6 +116,11 @@ class CellSafety:
             self._stopped[name] = stopped
             publisher.publish(Bool(stopped))
 
+    def restart(self):
+        """As built (a rewind; the node restarts the lock-step): each safety_stop sent again
+        at the first step."""
+        self._stopped.clear()
+
     def close(self):
         for subscriber in self._scales.values():
             subscriber.unregister()

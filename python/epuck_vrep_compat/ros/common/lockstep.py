@@ -57,6 +57,12 @@ class StepLockstep:
         self._lost = set()               # robots not waited for until they catch up
         self.late_steps = 0
 
+    def restart(self):
+        """As built: no answer received, none needed, nobody lost (a rewind)."""
+        with self._cond:
+            self._count, self._needed, self._lost = {}, {}, set()
+            self.late_steps = 0
+
     def answered(self, robot: str):
         """An answer of ``robot`` arrived and took effect (the face's subscriber thread)."""
         with self._cond:
@@ -145,6 +151,10 @@ class Locksteps:
     def stepped(self):
         for ls in self._all:
             ls.stepped()
+
+    def restart(self):
+        for ls in self._all:
+            ls.restart()
 
     def wait(self):
         for ls in self._all:

@@ -4,7 +4,7 @@ Faces: the e-puck topic profile (``EpuckFace``, ``TfFace``, ``CameraFace``, ``Le
 V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled streams).
 Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused; in
 lock-step with a supervisor each after its answer to the last, as the loop's),
-``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``).
+``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``), ``~rewind`` (:mod:`.rewind`).
 
 Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
 one list and after each step calls ``publish(step)`` on each (on idle passes
@@ -38,6 +38,7 @@ from epuck_vrep_compat.ros.epuck.transforms import TfFace
 from epuck_vrep_compat.ros.face import Step
 from epuck_vrep_compat.ros.messages import time_stamp
 from epuck_vrep_compat.ros.node.params import ParamError, SimParams, with_operator
+from epuck_vrep_compat.ros.node.rewind import RewindService
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.ros.vrep_plugin.face import VrepFace
@@ -111,11 +112,16 @@ class SimulatorNode:
         self.faces = [f for f in (faults, self.tf, self.epucks, self.extras, self.cell,
                                   self.vrep, self.cameras, self.leds, self.descriptions)
                       if f is not None]
+        self._advertise()
+        self.leds.publish(self._step_info())
+
+    def _advertise(self):
+        """Our own services (see the module's docstring)."""
         rospy.Service("~step", StepSimulation, self._on_step)
         rospy.Service(PAUSE_SERVICE, Empty, self._on_pause)
         rospy.Service(UNPAUSE_SERVICE, Empty, self._on_unpause)
         rospy.Service(RESET_SERVICE, Empty, self._on_reset)
-        self.leds.publish(self._step_info())
+        self._rewind = RewindService(self.sim, self.control, self._lockstep, self.cell)
 
     @property
     def batch(self):
