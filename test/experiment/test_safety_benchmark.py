@@ -13,7 +13,7 @@ EXPERIMENTS = os.path.join(h.REPO, "experiments")
 
 
 def test_every_cell_one_walk_and_the_report(tmp_path):
-    """12 runs (11 cells x seed 0, and seed 1 of ssm at its defaults without a fault). Without
+    """13 runs (12 cells x seed 0, and seed 1 of ssm at its defaults without a fault). Without
     a monitor the arm stays in the operator's S_p for seconds; our supervisor cuts that time;
     killed or fed a frozen estimate it leaves the arm stopped (the watchdog, the fail-safe);
     report.md holds the table and each monitor's worst walk as a replay command."""
@@ -24,7 +24,7 @@ def test_every_cell_one_walk_and_the_report(tmp_path):
     assert code == 0, h.explain(code, stdout, stderr)
     rows = h.record(out / "walks")
     h.by_key(rows)
-    assert len(rows) == 12 and {r["status"] for r in rows} == {"ok"}, h.describe(rows)
+    assert len(rows) == 13 and {r["status"] for r in rows} == {"ok"}, h.describe(rows)
 
     def cell(monitor, fault="none", seed=0):
         """The row of that monitor at its defaults (no monitor.* parameter varied)."""

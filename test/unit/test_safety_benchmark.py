@@ -140,10 +140,28 @@ def _script(name):
 def test_fault_names():
     fault = _script("bench_fault")
     assert fault.parse_fault("latency_0.3") == ("latency", 0.3)
+    assert fault.parse_fault("hidden_latency_0.3") == ("hidden_latency", 0.3)
     assert fault.parse_fault("monitor_killed") == ("monitor_killed", 0.0)
-    for bad in ("latency_9", "camera_exploded"):
+    for bad in ("latency_9", "hidden_latency_-1", "hidden_latency", "camera_exploded"):
         with pytest.raises(ValueError):
             fault.parse_fault(bad)
+
+
+def test_a_hidden_latency_restamps_what_it_relays_and_a_visible_one_does_not():
+    fault = _script("bench_fault")
+    from geometry_msgs.msg import PoseWithCovarianceStamped
+    import rospy
+    old = PoseWithCovarianceStamped()
+    old.header.stamp, old.header.frame_id = rospy.Time(4.0), "world"
+    old.pose.pose.position.x = 1.5
+    relay = fault.Fault.__new__(fault.Fault)
+    relay.kind, relay.latency_s = "hidden_latency", 0.3
+    out = relay.relayed(old, rospy.Time(4.3))
+    assert (out.header.stamp, out.header.frame_id, out.pose.pose.position.x) == (
+        rospy.Time(4.3), "world", 1.5)
+    assert old.header.stamp == rospy.Time(4.0)            # the held estimate is not changed
+    relay.kind = "latency"
+    assert relay.relayed(old, rospy.Time(4.3)) is old
 
 
 def test_timing_sums_the_wall_time_of_every_invocation(tmp_path):
