@@ -46,6 +46,16 @@ def test_the_inbox_waits_for_the_steps_stamp_and_gives_each_message_once():
     assert box.take().header.stamp.to_sec() == 0.10 and box.take() is None
 
 
+def test_the_inbox_forgets_a_message_older_than_the_step_and_keeps_the_steps_own():
+    box = Inbox()
+    box.put(estimate(0.0))                   # sent before the start: heard or not, by chance
+    box.discard_before(rospy.Time.from_sec(0.05))
+    assert box.take() is None
+    box.put(estimate(0.10))
+    box.discard_before(rospy.Time.from_sec(0.10))
+    assert box.take().header.stamp.to_sec() == 0.10
+
+
 def test_the_inbox_gives_up_when_the_publisher_has_gone_or_the_time_is_out():
     box = Inbox()
     start = time.monotonic()

@@ -70,6 +70,14 @@ class Inbox:
             msg, self._msg = self._msg, None
             return msg
 
+    def discard_before(self, stamp):
+        """Forgets a waiting message stamped before ``stamp``: in lock-step a step uses only
+        its own inputs (a message sent before the start, which a subscriber may or may not
+        have heard, would make one run differ from the next)."""
+        with self._cond:
+            if self._msg is not None and self._msg.header.stamp < stamp:
+                self._msg = None
+
     def wait_for(self, stamp, timeout_s=INPUT_TIMEOUT_S, gone=lambda: False) -> bool:
         """Until a message stamped ``stamp`` or later is waiting (True), ``timeout_s`` of wall
         time passed or ``gone()`` says its publisher has gone (False)."""

@@ -65,6 +65,7 @@ class TrackerSteps:
         """The estimate of the step at ``stamp`` (the previous step's at ``previous``)."""
         t, t_prev = stamp.to_sec(), previous.to_sec()
         for what, inbox, sub, period in self.inputs:
+            inbox.discard_before(stamp)
             if (not due(t_prev, t, period) or inbox.wait_for(stamp, timeout_s=0.0)
                     or not self.sensor_exists(inbox.frame_id)):
                 continue
