@@ -1,5 +1,5 @@
 """Type stub of epuck_vrep_compat._core, the C++ core (see include/epuck_vrep_compat/)."""
-from typing import List, Sequence, Tuple, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -119,9 +119,14 @@ class CollisionWorld:
         far_m: float,
         ignore_handle: int = -1,
         mask: int = ...,
+        rgb: bool = True,
+        depth: bool = True,
+        depth_out: Optional[npt.NDArray[np.float32]] = None,
     ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
         """Camera x forward, y left, z up; returns (rgb (H, W, 3), depth (H, W)), row 0 at
-        the top; depth along the optical axis in [near_m, far_m], far_m for no hit."""
+        the top; depth along the optical axis in [near_m, far_m], far_m for no hit (None for
+        an image not asked for); ``depth_out``: a float32 (H, W) array to render the depth
+        into."""
     def closest_points(
         self, handle_a: int, handle_b: int
     ) -> Tuple[float, FloatArray, FloatArray]:
@@ -392,12 +397,20 @@ class DepthNoise:
         seed: int = 0,
     ) -> None: ...
     def apply(
-        self, depth: npt.ArrayLike, near_m: float, far_m: float
+        self, depth: npt.ArrayLike, near_m: float, far_m: float,
+        out: Optional[npt.NDArray[np.float32]] = None,
     ) -> npt.NDArray[np.float32]:
         """A noisy copy of depth (H, W) m: values >= far_m (no return) stay far_m, the others
-        are clamped to [near_m, far_m]. One draw per pixel, row-major. Releases the GIL."""
+        are clamped to [near_m, far_m]. One draw per pixel, row-major. Releases the GIL.
+        ``out``: a float32 (H, W) array (``depth`` itself too) to write it to, returned."""
     def sigma_m(self, depth_m: float) -> float: ...
     def reseed(self, seed: int) -> None: ...
+
+def vrep_depth_buffer(
+    depth: npt.ArrayLike, near_m: float, far_m: float
+) -> npt.NDArray[np.float32]:
+    """V-REP's depth buffer of a depth image (H, W) m, row 0 at the top: float32 (H, W), row 0
+    the bottom row, (depth - near_m) / (far_m - near_m) in float64 clipped to [0, 1]."""
 
 def detect_blobs(
     image: npt.ArrayLike, threshold: float = 0.5, min_size: float = 0.0

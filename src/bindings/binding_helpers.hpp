@@ -53,6 +53,23 @@ pybind11::array_t<T> array_copy(const std::vector<T>& data,
 
 // The noise setters EpuckSwarm and BatchedWorlds share (one API, so that Python's
 // NoiseSettings.apply sets either): IR, IMU noise and bias, wheel slip, N rows each.
+// ``out`` as the float32 (height, width) image a function writes to in place (no copy):
+// std::invalid_argument unless it is a writable, C-contiguous float32 array of that shape.
+inline pybind11::array_t<float> float_image_out(const pybind11::object& out,
+                                                pybind11::ssize_t height,
+                                                pybind11::ssize_t width) {
+  namespace py = pybind11;
+  if (py::isinstance<py::array_t<float>>(out)) {
+    auto array = py::reinterpret_borrow<py::array_t<float>>(out);
+    if ((array.flags() & py::array::c_style) && array.writeable() && array.ndim() == 2 &&
+        array.shape(0) == height && array.shape(1) == width) {
+      return array;
+    }
+  }
+  throw std::invalid_argument("out must be a writable C-contiguous float32 array of shape (" +
+                              std::to_string(height) + ", " + std::to_string(width) + ")");
+}
+
 template <typename T>
 void bind_noise_setters(pybind11::class_<T>& cls, const char* ir_doc) {
   using namespace pybind11::literals;

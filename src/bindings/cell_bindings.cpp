@@ -12,6 +12,7 @@
 
 #include "binding_helpers.hpp"
 #include "epuck_vrep_compat/sensors/blob_detection.hpp"
+#include "epuck_vrep_compat/sensors/depth_buffer.hpp"
 #include "epuck_vrep_compat/sensors/depth_noise.hpp"
 #include "epuck_vrep_compat/sensors/laser_scanner.hpp"
 #include "epuck_vrep_compat/sensors/ray_proximity.hpp"
@@ -24,6 +25,7 @@ namespace evc {
 namespace {
 
 using bindings::array_copy;
+using bindings::float_image_out;
 using bindings::MatrixRef;
 using bindings::pose_of;
 using bindings::VectorRef;
@@ -189,24 +191,50 @@ void bind_depth_noise(py::module_& m) {
           "apply",
           [](DepthNoise& noise,
              const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
-             double near_m, double far_m) {
+             double near_m, double far_m, py::object out) {
             if (depth.ndim() != 2) throw bad("depth", "be a 2-D (H, W) array of metres");
-            py::array_t<float> out({depth.shape(0), depth.shape(1)});
+            py::array_t<float> noisy_array =
+                out.is_none() ? py::array_t<float>({depth.shape(0), depth.shape(1)})
+                              : float_image_out(out, depth.shape(0), depth.shape(1));
             const float* in = depth.data();
-            float* noisy = out.mutable_data();
+            float* noisy = noisy_array.mutable_data();
             const auto count = static_cast<std::size_t>(depth.size());
             {
               py::gil_scoped_release release;
               noise.apply(in, noisy, count, near_m, far_m);
             }
-            return out;
+            return noisy_array;
           },
-          "depth"_a, "near_m"_a, "far_m"_a,
+          "depth"_a, "near_m"_a, "far_m"_a, "out"_a = py::none(),
           "Noisy copy (float32 (H, W)) of a depth image (m): values >= far_m (no return) "
-          "stay far_m, the rest are clamped to [near_m, far_m]. ValueError for NaN or "
-          "negative depths, or not 0 <= near_m < far_m.")
+          "stay far_m, the rest are clamped to [near_m, far_m]. ``out``: a writable float32 "
+          "C-contiguous (H, W) array to write it to instead of a new one (``depth`` itself "
+          "too), returned. ValueError for NaN or negative depths, or not 0 <= near_m < far_m.")
       .def("sigma_m", &DepthNoise::sigma_m, "depth_m"_a, "sigma_z at a depth, m.")
       .def("reseed", &DepthNoise::reseed, "seed"_a, "Restarts the noise stream.");
+}
+
+void bind_depth_buffer(py::module_& m) {
+  m.def(
+      "vrep_depth_buffer",
+      [](const py::array_t<float, py::array::c_style | py::array::forcecast>& depth,
+         double near_m, double far_m) {
+        if (depth.ndim() != 2) throw bad("depth", "be a 2-D (H, W) array of metres");
+        const auto height = static_cast<std::size_t>(depth.shape(0));
+        const auto width = static_cast<std::size_t>(depth.shape(1));
+        py::array_t<float> out({depth.shape(0), depth.shape(1)});
+        const float* in = depth.data();
+        float* buffer = out.mutable_data();
+        {
+          py::gil_scoped_release release;
+          vrep_depth_buffer(in, buffer, height, width, near_m, far_m);
+        }
+        return out;
+      },
+      "depth"_a, "near_m"_a, "far_m"_a,
+      "V-REP's depth buffer (float32 (H, W), row 0 the image's bottom row) of a depth image "
+      "(m, row 0 at the top): (depth - near_m) / (far_m - near_m) in float64, clipped to "
+      "[0, 1], then float32, as numpy computes it. ValueError unless near_m < far_m, finite.");
 }
 
 void bind_blobs(py::module_& m) {
@@ -247,6 +275,7 @@ void bind_cell(py::module_& m) {
   bind_proximity(m);
   bind_laser(m);
   bind_depth_noise(m);
+  bind_depth_buffer(m);
   bind_blobs(m);
 }
 

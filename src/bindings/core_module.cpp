@@ -26,6 +26,7 @@ using namespace py::literals;
 namespace evc {
 namespace {
 
+using bindings::float_image_out;
 using bindings::MatrixRef;
 using bindings::pose_of;
 using bindings::vec3;
@@ -43,7 +44,8 @@ py::array per_sensor_3d(const RowMatrixXd& rows, const EpuckSwarm& swarm) {
 // render_into straight into new numpy arrays (no copy): (rgb or None, depth or None).
 py::tuple render_arrays(const CollisionWorld& w, const VectorRef& position,
                         const VectorRef& quaternion, const CameraSpec& spec, int ignore_handle,
-                        int mask, bool want_rgb, bool want_depth) {
+                        int mask, bool want_rgb, bool want_depth,
+                        const py::object& depth_into = py::none()) {
   const Pose pose = pose_of(position, quaternion);
   const py::ssize_t height = std::max(spec.height, 0), width = std::max(spec.width, 0);
   py::object rgb = py::none(), depth = py::none();
@@ -55,7 +57,8 @@ py::tuple render_arrays(const CollisionWorld& w, const VectorRef& position,
     rgb = std::move(array);
   }
   if (want_depth) {
-    py::array_t<float> array({height, width});
+    py::array_t<float> array = depth_into.is_none() ? py::array_t<float>({height, width})
+                                                    : float_image_out(depth_into, height, width);
     depth_out = array.mutable_data();
     depth = std::move(array);
   }
@@ -169,18 +172,20 @@ void bind_world(py::module_& m) {
           "render",
           [](const CollisionWorld& w, const VectorRef& position, const VectorRef& quaternion,
              int width, int height, double vertical_fov_rad, double near_m, double far_m,
-             int ignore_handle, int mask, bool rgb, bool depth) {
+             int ignore_handle, int mask, bool rgb, bool depth, const py::object& depth_out) {
             return render_arrays(w, position, quaternion,
                                  CameraSpec{width, height, vertical_fov_rad, near_m, far_m},
-                                 ignore_handle, mask, rgb, depth);
+                                 ignore_handle, mask, rgb, depth, depth_out);
           },
           "position"_a, "quaternion"_a, "width"_a, "height"_a, "vertical_fov_rad"_a, "near_m"_a,
           "far_m"_a, "ignore_handle"_a = -1, "mask"_a = int(kGroupAll), "rgb"_a = true,
-          "depth"_a = true,
+          "depth"_a = true, "depth_out"_a = py::none(),
           "Ray-cast pinhole camera (x forward, y left, z up; row 0 at the top). Returns "
           "(rgb uint8 (H, W, 3), depth float32 (H, W) along the optical axis, far_m for none); "
           "rgb=False or depth=False gives None for that image and skips its work (no shading "
-          "for a depth image alone), the other image bit for bit the same.")
+          "for a depth image alone), the other image bit for bit the same. ``depth_out``: a "
+          "writable float32 C-contiguous (H, W) array to render the depth into instead of a "
+          "new one (returned as the depth).")
       .def(
           "render_rgb_batch",
           [](const CollisionWorld& w, const MatrixRef& positions, const MatrixRef& quaternions,

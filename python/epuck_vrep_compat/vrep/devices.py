@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from epuck_vrep_compat._core import vrep_depth_buffer
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.devices.components import ComponentError
 from epuck_vrep_compat.vrep.errors import VrepError
@@ -73,8 +74,9 @@ class VrepDevices:
         """V-REP's depth buffer: (W, H), values 0..1 between the clipping planes, first row =
         bottom of the image (V-REP's order)."""
         sensor = self.vision(handle)
-        depth = sensor.render_depth()
-        return sensor.resolution, _normalised_depth(sensor.spec, depth[::-1], np.float32)
+        spec = sensor.spec
+        return sensor.resolution, vrep_depth_buffer(sensor.render_depth_kept(), spec.near_m,
+                                                    spec.far_m)
 
     def read_vision_sensor(self, handle: int):
         """simReadVisionSensor: (detection state, auxiliary packets). Our sensors have V-REP's
@@ -106,12 +108,11 @@ class VrepDevices:
         raise VrepError(f"distance object {handle} does not exist (the scene defines none)")
 
 
-def _normalised_depth(spec, depth_m, dtype=np.float64):
-    """Depth along the axis [m] to V-REP's 0..1 between the near and far clipping planes,
-    computed in float64, then given as ``dtype``. In place on one float64 copy: a 640 x 480
-    buffer's temporaries cost more than the arithmetic."""
+def _normalised_depth(spec, depth_m):
+    """Depth along the axis [m] to V-REP's 0..1 between the near and far clipping planes, in
+    float64 (``vrep_depth_buffer`` is the same in float32, rows bottom first). In place on one
+    float64 copy: a 640 x 480 buffer's temporaries cost more than the arithmetic."""
     normalised = depth_m.astype(np.float64)
     normalised -= spec.near_m
     normalised /= spec.far_m - spec.near_m
-    out = normalised if dtype == np.float64 else np.empty(normalised.shape, dtype)
-    return np.clip(normalised, 0.0, 1.0, out=out)
+    return np.clip(normalised, 0.0, 1.0, out=normalised)

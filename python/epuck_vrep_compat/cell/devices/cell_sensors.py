@@ -33,16 +33,17 @@ class CellVision(VisionSensor):
         return super().view() + (self.mask,)
 
     def _noisy(self, depth):
+        """``depth``, a rendering of its own, with the sensor's noise (in place)."""
         if self.depth_noise is None:
             return depth
-        return self.depth_noise.apply(depth, self.spec.near_m, self.spec.far_m)
+        return self.depth_noise.apply(depth, self.spec.near_m, self.spec.far_m, out=depth)
 
     def render(self):
         rgb, depth = self._sim.world.render(*self.view())
         return rgb, self._noisy(depth)
 
-    def render_depth(self):
-        return self._noisy(self._sim.world.render(*self.view(), rgb=False)[1])
+    def render_depth(self, out=None):
+        return self._noisy(super().render_depth(out))
 
     def render_rgb(self):
         if self.depth_noise is not None:
