@@ -51,6 +51,13 @@ class TrackerSteps:
         self.clock = StepClock(self.step)
         self.handshake()
 
+    def restart(self):
+        """As built (the tracker reset): every sensor there again, ``/clock`` from 0, and the
+        ready message again."""
+        self.gone = set()
+        self.clock.reset()
+        self.handshake()
+
     def handshake(self):
         """Once ``/clock`` and every input waited for are connected: the latched message
         stamped 0."""
