@@ -4,7 +4,6 @@ reaction per approach, the scale in effect (the watchdog's stop included), produ
 report's cells, worst walk and replay command; the coverage grid; the fault names."""
 import json
 import math
-import os
 
 import numpy as np
 import pytest
