@@ -4,6 +4,7 @@ reset restores what a run changes (filters, counts, latched messages, rospy's ti
 dynamic transforms; the static ones kept); the supervisor's handshake after a reset waits for
 the operator as at its start, and only the last reset's handshake is sent."""
 import threading
+import types
 
 import numpy as np
 import pytest
@@ -92,6 +93,26 @@ def test_a_tracker_in_lock_step_forgets_its_steps_and_says_it_is_ready_again(mon
     again = tracker.pose_pub.sent[-1]
     assert again is not ready and again.header.stamp.is_zero()
     assert tracker.pose_pub.impl.latch is again
+
+
+def test_a_tracker_in_lock_step_waits_for_the_lasers_scan_of_time_0_at_the_first_step(
+        monkeypatch):
+    """The cell's laser scans at time 0 too (at a launch or a rewind) and sends that scan with
+    the first step: that step waits for it, so whether it came in time changes no row; later
+    steps wait at the laser's period only, and never for a Kinect image at the first."""
+    fake_ros.install(monkeypatch, {"lockstep": True})
+    tracker = OperatorTracker()
+    steps = tracker.steps
+    steps.get_signal = lambda _name: types.SimpleNamespace(result=0)
+    waits = []
+    for what, inbox in (("laser", tracker.scan), ("kinect", tracker.depth)):
+        monkeypatch.setattr(inbox, "wait_for", lambda stamp, timeout_s=2.0, gone=None, w=what:
+                            waits.append((w, round(stamp.to_sec(), 3), timeout_s)) or False)
+    for k in range(1, 5):
+        steps.step(rospy.Time.from_sec(STEP_S * k), rospy.Time.from_sec(STEP_S * (k - 1)))
+    waited = [(w, t) for w, t, timeout_s in waits if timeout_s > 0.0]
+    assert waited == [("laser", 0.05), ("laser", 0.1), ("kinect", 0.1), ("laser", 0.2),
+                      ("kinect", 0.2)]
 
 
 def supervisor_state(sup):
