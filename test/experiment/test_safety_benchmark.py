@@ -2,8 +2,10 @@
 every monitor x fault cell over one walk and our supervisor over two, all ok, with the
 results the arithmetic predicts for that walk; the same walk twice gives the same row; and the
 coverage maps of both layouts."""
+import glob
 import math
 import os
+import re
 
 import yaml
 
@@ -46,16 +48,20 @@ def test_every_cell_one_walk_and_the_report(tmp_path):
     assert "roslaunch ssm_bench replay.launch seed:=" in report, report
 
 
-def first_cell_spec(folder, seeds, name="first_cell", **changes):
+def first_cell_spec(folder, seeds, name="first_cell", extra_code=(), extra_packages=(),
+                    **changes):
     """The shipped spec cut to its first cell (our supervisor at its defaults, no fault) and
-    ``seeds``, with ``changes`` of its top keys, written to ``folder`` (its paths made
-    absolute); returns its path."""
+    ``seeds``, with ``changes`` of its top keys and ``extra_code`` entries found in
+    ``extra_packages`` (absolute paths), written to ``folder`` (its paths made absolute);
+    returns its path."""
     with open(os.path.join(EXPERIMENTS, "safety_ssm.yaml")) as f:
         spec = yaml.safe_load(f)
     spec["vary"] = {"list": spec["vary"]["list"][:1]}
     spec["seeds"] = seeds
     spec.update(changes)
+    spec["code"] += list(extra_code)
     spec["package_path"] = [os.path.join(EXPERIMENTS, p) for p in spec["package_path"]]
+    spec["package_path"] += list(extra_packages)
     spec["simulator"]["launch"] = os.path.join(EXPERIMENTS, spec["simulator"]["launch"])
     for entry in spec["code"]:
         if "launch" in entry:
@@ -96,24 +102,54 @@ def same_metrics(a, b):
 
 
 def test_walks_in_one_launch_give_the_rows_of_walks_launched_alone(tmp_path):
-    """Issue 26's runs_per_launch: seeds 0, 1, 2 of the first cell (6 s walks) in one launch
-    (the simulator rewound, the nodes started again between them) and each launched alone
-    (the two experiments at once): the same run keys and every metric the same to the last
-    digit, the walks after a rewind as well as the first."""
-    specs = [first_cell_spec(tmp_path, [0, 1, 2], f"k{k}", duration_s=6, runs_per_launch=k)
-             for k in (3, 1)]
-    procs = [h.start(h.command(spec, tmp_path / f"out{k}", "--workers", 1), tmp_path)
-             for k, spec in enumerate(specs)]
+    """Issue 26's runs_per_launch: seeds 0, 1, 2 of the first cell (6 s walks) launched alone,
+    in one launch whose nodes are all reset in place between the walks (their ``~reset``,
+    after the simulator's rewind), and in one launch with a node that offers no reset as well
+    (the fixtures' ``misbehave``: the probe has roslaunch start it again, and resets the rest),
+    the three experiments at once: every metric the same to the last digit, the walks after
+    a rewind as well as the first; the probes' logs say which nodes were reset and which
+    started again."""
+    misbehave = {"name": "misbehave", "node": "evc_fixture_nodes/misbehave",
+                 "params": {"mode": "ok"}}
+    specs = [first_cell_spec(tmp_path, [0, 1, 2], "alone", duration_s=6, runs_per_launch=1),
+             first_cell_spec(tmp_path, [0, 1, 2], "reset", duration_s=6, runs_per_launch=3),
+             first_cell_spec(tmp_path, [0, 1, 2], "mixed", duration_s=6, runs_per_launch=3,
+                             extra_code=[misbehave], extra_packages=[h.fixture("pkgs")])]
+    procs = []
+    for k, spec in enumerate(specs):      # the runs' folders kept, each experiment's apart
+        os.makedirs(tmp_path / f"tmp{k}")
+        env = h.environment(tmp_path, EVC_KEEP_RUNS=1, TMPDIR=tmp_path / f"tmp{k}")
+        procs.append(h.start(h.command(spec, tmp_path / f"out{k}", "--workers", 1), tmp_path,
+                             env))
     results = [h.finish(proc) for proc in procs]
     for code, stdout, stderr in results:
         assert code == 0, h.explain(code, stdout, stderr)
-    chunked, alone = (h.by_key(h.record(tmp_path / f"out{k}")) for k in (0, 1))
-    assert chunked.keys() == alone.keys() and len(chunked) == 3, h.describe(
-        list(chunked.values()) + list(alone.values()))
-    for key, row in chunked.items():
-        assert row["status"] == alone[key]["status"] == "ok", h.describe([row, alone[key]])
-        assert same_metrics(row, alone[key]) == {}, (row["seed"], same_metrics(row, alone[key]))
-        assert 0.0 < row["cpu_s"] and 0.0 < row["wall_s"], row
+    alone, reset, mixed = ({r["seed"]: r for r in h.record(tmp_path / f"out{k}")}
+                           for k in range(3))
+    assert alone.keys() == reset.keys() == mixed.keys() == {0, 1, 2}, h.describe(
+        [*alone.values(), *reset.values(), *mixed.values()])
+    assert {r["run_key"] for r in alone.values()} == {r["run_key"] for r in reset.values()}
+    for seed, row in alone.items():
+        for chunked in (reset[seed], mixed[seed]):
+            assert row["status"] == chunked["status"] == "ok", h.describe([row, chunked])
+            assert same_metrics(chunked, row) == {}, (seed, same_metrics(chunked, row))
+            assert 0.0 < chunked["cpu_s"] and 0.0 < chunked["wall_s"], chunked
+    nodes = "/fault, /kinect, /operator_tracker, /ssm_supervisor, /truth"
+    assert probe_log_lines(tmp_path / "tmp1") == [f"reset {nodes}; started again none"] * 2
+    assert probe_log_lines(tmp_path / "tmp2") == [f"reset {nodes}; started again /misbehave"] * 2
+
+
+def probe_log_lines(runs_folder):
+    """What the probe of the one chunk whose run folder is in ``runs_folder`` said of each walk
+    after the first: which nodes it reset and which it had started again (timing cut off)."""
+    logs = {os.path.realpath(path) for path in glob.glob(str(
+        runs_folder / "evc-*" / "ros_home" / "log" / "*" / "experiment_probe*.log"))
+            if not path.endswith(("-stdout.log", "-stderr.log"))}    # rospy's own, once
+    assert len(logs) == 1, logs
+    logs = list(logs)
+    with open(logs[0]) as f:
+        found = re.findall(r"experiment_probe: (reset .*; started again [^(]*) \(", f.read())
+    return [line.strip() for line in found]
 
 
 def test_coverage_maps_of_both_layouts(tmp_path):

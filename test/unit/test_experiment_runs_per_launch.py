@@ -5,12 +5,14 @@ import copy
 import json
 import os
 import tempfile
+import threading
 import xml.etree.ElementTree as ET
 
 import pytest
 import yaml
 
-from epuck_vrep_compat.experiment import launch_files, plan, probe_walks, runner_chunk, spec
+from epuck_vrep_compat.experiment import (
+    flatten, launch_files, plan, probe, probe_walks, runner_chunk, spec)
 from epuck_vrep_compat.experiment.spec_checks import Lines, SpecError
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -111,6 +113,25 @@ def test_a_chunks_launch_respawns_the_users_nodes_and_gives_the_probe_every_walk
     alone = copy.copy(lead)
     alone.walks = []
     assert ET.fromstring(launch_files.run_launch(alone)).find("node").get("respawn") is None
+
+
+def test_a_walk_after_the_first_waits_for_the_ready_messages_the_first_had():
+    """The probe starts a walk after a reset only once each wait_for topic has had as many
+    messages as when the launch's first walk started (a monitor's ready scale)."""
+    from std_msgs.msg import Float64
+    p = probe.Probe({"duration_s": 1.0, "out": "/x/walk0.npz",
+                     "pace": {"mode": "lockstep", "wait_for": ["/s"]}})
+    p.columns["/s"] = flatten.Columns("std_msgs/Float64", Float64)
+    p.counts["/s"] = 0
+    p.on_message(Float64(0.0), "/s")
+    with p.lock:
+        p.ready_counts = dict(p.counts)                  # as probe.start() notes it
+    p.restart("/x/walk1.npz")
+    with pytest.raises(RuntimeError, match="/s 0 of 1"):
+        p.await_ready(0.0)                               # the deadline passed: no ready
+    threading.Timer(0.01, p.on_message, (Float64(0.0), "/s")).start()
+    p.await_ready(float("inf"))
+    assert p.counts == {"/s": 1}
 
 
 def test_one_run_is_a_walk_of_its_own_recording():

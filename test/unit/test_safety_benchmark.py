@@ -2,11 +2,8 @@
 the monitor's parameters, time in violation only while the robot moves, contacts, the
 reaction per approach, the scale in effect (the watchdog's stop included), productivity; the
 report's cells, worst walk and replay command; the coverage grid; the fault names."""
-import importlib.machinery
-import importlib.util
 import json
 import math
-import os
 
 import numpy as np
 import pytest
@@ -15,8 +12,8 @@ from epuck_vrep_compat.experiment import coverage_maps, report_safety, safety_cl
 from epuck_vrep_compat.experiment import metrics_safety as ms
 from epuck_vrep_compat.experiment.metrics import RunContext, TopicSeries
 from epuck_vrep_compat.nodes.ssm_model import SsmParameters
+from fake_ros import bench_script
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STEP = 0.05
 
 
@@ -129,16 +126,8 @@ def test_coverage_grid_means_per_cell():
     assert s["seen_fraction"] == 0.5 and s["error_max_m"] == pytest.approx(0.5)
 
 
-def _script(name):
-    path = os.path.join(REPO, "experiments", "safety_ssm", "ssm_bench", "scripts", name)
-    loader = importlib.machinery.SourceFileLoader(name, path)
-    module = importlib.util.module_from_spec(importlib.util.spec_from_loader(name, loader))
-    loader.exec_module(module)
-    return module
-
-
 def test_fault_names():
-    fault = _script("bench_fault")
+    fault = bench_script("bench_fault")
     assert fault.parse_fault("latency_0.3") == ("latency", 0.3)
     assert fault.parse_fault("hidden_latency_0.3") == ("hidden_latency", 0.3)
     assert fault.parse_fault("monitor_killed") == ("monitor_killed", 0.0)
@@ -148,7 +137,7 @@ def test_fault_names():
 
 
 def test_a_hidden_latency_restamps_what_it_relays_and_a_visible_one_does_not():
-    fault = _script("bench_fault")
+    fault = bench_script("bench_fault")
     from geometry_msgs.msg import PoseWithCovarianceStamped
     import rospy
     old = PoseWithCovarianceStamped()

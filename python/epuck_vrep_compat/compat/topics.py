@@ -15,6 +15,9 @@ PAUSE_SERVICE = NODE_NAMESPACE + "pause"
 UNPAUSE_SERVICE = NODE_NAMESPACE + "unpause"
 RESET_SERVICE = NODE_NAMESPACE + "reset"
 REWIND_SERVICE = NODE_NAMESPACE + "rewind"     # ours: time back to 0, a new seed (experiments)
+# A client node's own reset (std_srvs/Trigger, under its private namespace: ``~reset``): the node
+# as launched, for the next run of an experiment's launch (docs/experiments.md)
+NODE_RESET_SERVICE = "reset"
 
 # Each cell robot's topics and description, ``robot`` its ROS name (cell_names.ros_robot_name).
 JOINT_STATES_TOPIC = "/{robot}/joint_states"            # sensor_msgs/JointState, out

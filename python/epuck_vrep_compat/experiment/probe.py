@@ -2,7 +2,8 @@
 
 Started (paused) by the run's launch file beside the simulator and the user's code. It waits
 for the simulator's ``/vrep/unpause`` service and for a publisher on every topic it records,
-gives the user's nodes ``start_grace_s`` to subscribe, then starts the simulation: ``free``,
+gives the user's nodes ``start_grace_s`` to subscribe (not between the walks of one launch
+when every node was reset in place: :mod:`probe_walks`), then starts the simulation: ``free``,
 at whatever real-time factor the simulator was given (the runner gives ``rtf:=0``), or
 ``lockstep``, V-REP's synchronous mode: one step, then wait until every ``wait_for`` topic
 has published once (or ``step_timeout_s`` of wall time passed: a late step, counted; with
@@ -58,6 +59,7 @@ class Probe:
         self.times = {"probe": time.time()}       # wall clock of each phase, for the row
         self.subs = []
         self.by_topic = {}               # wait_for's topics -> their subscriber
+        self.ready_counts = None         # counts when the launch's first walk started
 
     # --- callbacks -------------------------------------------------------------------------
     def on_clock(self, msg):
@@ -127,8 +129,23 @@ class Probe:
                 raise RuntimeError("could not connect to every recorded topic again")
             time.sleep(0.02)
 
-    def start(self):
-        time.sleep(self.pace.get("start_grace_s", 0.5))
+    def await_ready(self, deadline):
+        """Until each wait_for topic has had as many messages as when the launch's first walk
+        started (the nodes' ready messages, sent again by a reset: :mod:`probe_walks`)."""
+        with self.lock:
+            while any(self.counts[t] < n for t, n in self.ready_counts.items()):
+                if time.monotonic() > deadline or rospy.is_shutdown():
+                    raise RuntimeError("the ready messages did not come again: " + ", ".join(
+                        f"{t} {self.counts[t]} of {n}" for t, n in self.ready_counts.items()))
+                self.lock.wait(GONE_POLL_S)
+
+    def start(self, grace=True):
+        """The run started, after ``start_grace_s`` for the user's nodes when ``grace``."""
+        if grace:
+            time.sleep(self.pace.get("start_grace_s", 0.5))
+        with self.lock:
+            if self.ready_counts is None:
+                self.ready_counts = dict(self.counts)
         if self.pace["mode"] == "lockstep":
             from vrep_common.srv import simRosSynchronous
             rospy.ServiceProxy(NODE_NAMESPACE + "simRosSynchronous", simRosSynchronous)(enable=1)
@@ -218,10 +235,11 @@ def main():
         try:
             if number == 0:
                 probe.subscribe(time.monotonic() + start_timeout_s)
+                again = True
             else:
-                probe_walks.next_walk(probe, walk, start_timeout_s)
+                again = probe_walks.next_walk(probe, walk, start_timeout_s)
             probe.times["ready"] = time.time()
-            probe.start()
+            probe.start(grace=bool(again))
             probe.times["started"] = time.time()
         except (RuntimeError, OSError, rospy.ROSException, rospy.ServiceException) as e:
             rospy.logerr(f"experiment_probe: walk {number + 1} did not start: {e}")

@@ -24,7 +24,8 @@ thesis's), ``~view_angle_deg`` (80), ``~blob_height_m`` (0.6), ``~camera_pair_si
 position covariance is the filter's plus the sensors' biases and the lag
 (:func:`tracker_filter.published_covariance`, measured in docs/cell.md). With ``~lockstep``
 (false) it estimates once per simulation step instead, from that step's inputs
-(:mod:`tracker_steps`: ``~laser_period_s``, ``~kinect_period_s``).
+(:mod:`tracker_steps`: ``~laser_period_s``, ``~kinect_period_s``). ``~reset``
+(``std_srvs/Trigger``, :mod:`node_reset`): as launched, for the next run of one launch.
 """
 import numpy as np
 import rospy
@@ -40,6 +41,7 @@ from epuck_vrep_compat.compat.topics import (
 from epuck_vrep_compat.nodes import tracker_geometry as geo
 from epuck_vrep_compat.nodes.tracker_filter import OperatorFilter, published_covariance
 from epuck_vrep_compat.nodes.tracker_kinect import KinectRange
+from epuck_vrep_compat.nodes.node_reset import ResetService, clear_tf, restart_ros_time
 from epuck_vrep_compat.nodes.step_inputs import Inbox, NotifyingTransformListener
 from epuck_vrep_compat.nodes.tracker_markers import estimate_markers
 from epuck_vrep_compat.nodes.tracker_steps import TrackerSteps
@@ -80,15 +82,12 @@ class OperatorTracker:
         self.bias_sigma = _non_negative("bias_sigma_m", 0.05)
         self.lag_s = _non_negative("lag_s", 0.05)
         self.fresh_s = _positive("fresh_s", 0.15)
-        rate_hz = _positive("rate_hz", 20.0)
+        self.rate_hz = rate_hz = _positive("rate_hz", 20.0)
         self.lockstep = read_typed("lockstep", False, bool)
-        self.filter = OperatorFilter(_positive("accel_density", 4.0))
-        self.log = ThrottledLog()
-        self.blobs = {(k, a): None for k in range(2) for a in "XY"}
+        self.accel_density = _positive("accel_density", 4.0)
         self.scan, self.depth = Inbox(), Inbox()        # the newest, not used yet
         self.kinect = KinectRange(_positive("kinect_fov_deg", 57.0))
-        self.background = geo.LaserBackground()
-        self.refused = 0          # camera measurements refused in a row: the track is lost
+        self.start_state()
         self.tf = tf2_ros.Buffer()
         self._listener = NotifyingTransformListener(self.tf)
         # in lock-step the blobs are read from /vrep at each step (their topics carry no stamp)
@@ -112,6 +111,28 @@ class OperatorTracker:
                                       _non_negative("kinect_period_s", 0.1))
         else:
             self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
+
+    def start_state(self):
+        """What a run changes, as at the start: no blob, no scan or image waiting, no track."""
+        self.log = ThrottledLog()
+        self.blobs = {(k, a): None for k in range(2) for a in "XY"}
+        self.scan.reset()
+        self.depth.reset()
+        self.filter = OperatorFilter(self.accel_density)
+        self.background = geo.LaserBackground()
+        self.refused = 0          # camera measurements refused in a row: the track is lost
+
+    def reset(self):
+        """``~reset``: as launched (the simulator rewound, paused before its first step); in
+        lock-step the ready message again, else the timer from the clock's 0."""
+        restart_ros_time()
+        clear_tf(self._listener)
+        self.start_state()
+        if self.lockstep:
+            self.steps.restart()
+        else:
+            self.timer.shutdown()
+            self.timer = rospy.Timer(rospy.Duration(1.0 / self.rate_hz), self.cycle)
 
     def _on_blob(self, msg, key):
         self.blobs[key] = (rospy.Time.now().to_sec(), float(msg.data))
@@ -246,7 +267,7 @@ class OperatorTracker:
 def main():
     rospy.init_node("operator_tracker")
     try:
-        OperatorTracker()
+        ResetService(OperatorTracker().reset)
     except ParamError as error:
         rospy.logfatal("operator_tracker: %s", error)
         return 2

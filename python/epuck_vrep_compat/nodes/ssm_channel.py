@@ -12,6 +12,7 @@ from epuck_vrep_compat.compat.cell_names import ros_robot_name
 from epuck_vrep_compat.compat.topics import (
     JOINT_STATES_TOPIC, ROBOT_DESCRIPTION_PARAM, SPEED_SCALE_TOPIC)
 from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds, root_twist
+from epuck_vrep_compat.nodes.node_reset import forget_latched
 from epuck_vrep_compat.nodes.ssm_model import ArmGovernor
 from epuck_vrep_compat.nodes.ssm_pacing import lookup_root
 
@@ -25,12 +26,8 @@ class RobotChannel:
         self.name = name
         self._on_joints_hook = on_joints
         self.ros_name = ros_name = ros_robot_name(name)     # a copy's IRB140#0: IRB140_0
-        self.governor = ArmGovernor(p)
-        self.joints = None
-        self.kinematics = None
-        self.root_pose = None        # (stamp, position, quaternion) of the root on TF
-        self.root_velocity = (None, None)     # its (linear, angular), root frame; None: rest
-        self.status = None
+        self.p = p
+        self.start_state()
         self.joints_subscriber = rospy.Subscriber(JOINT_STATES_TOPIC.format(robot=ros_name),
                                                   JointState, self._on_joints, queue_size=1)
         ns = f"~{ros_name}/"
@@ -42,6 +39,22 @@ class RobotChannel:
                               "operator_uncertainty")}
         self.stop_pub = rospy.Publisher(ns + "protective_stop", Bool, queue_size=1)
         self.status_pub = rospy.Publisher(ns + "status", String, queue_size=1, latch=True)
+
+    def start_state(self):
+        """What a run changes, as at the start."""
+        self.governor = ArmGovernor(self.p)
+        self.joints = None
+        self.kinematics = None
+        self.root_pose = None        # (stamp, position, quaternion) of the root on TF
+        self.root_velocity = (None, None)     # its (linear, angular), root frame; None: rest
+        self.status = None
+
+    def restart(self):
+        """As at the start (the supervisor reset): its state, and no latched scale or status
+        for a new subscriber until it publishes again."""
+        self.start_state()
+        forget_latched(self.command)
+        forget_latched(self.status_pub)
 
     def _on_joints(self, msg):
         self.joints = msg

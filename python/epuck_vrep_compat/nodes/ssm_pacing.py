@@ -38,16 +38,34 @@ class StepPacer:
         self.operator = operator
         self._lock = threading.Lock()
         self._last = rospy.Time(0)
+        self._starts = 0             # restarts so far: a handshake of an earlier one sends nothing
 
-    def handshake(self):
+    def handshake(self, start=0):
         """Once every channel's joint states have a publisher: a latched scale 0 each."""
         while not rospy.is_shutdown() and any(
                 c.joints_subscriber.get_num_connections() == 0 for c in self.channels.values()):
             time.sleep(0.02)
         if self.operator is not None:
             self.operator.wait_ready()
-        for channel in self.channels.values():
-            channel.command.publish(0.0)
+        with self._lock:
+            if start != self._starts:
+                return
+            for channel in self.channels.values():
+                channel.command.publish(0.0)
+
+    def restart(self):
+        """As built (the supervisor reset): no step answered, the operator's estimates counted
+        from the next ready message, and the handshake again, on a thread of its own (as at
+        the start, it waits for the operator's ready message, which the tracker, reset after
+        the supervisor, sends)."""
+        with self._lock:
+            self._last = rospy.Time(0)
+            self._starts += 1
+            start = self._starts
+        if self.operator is not None:
+            self.operator.restart()
+        threading.Thread(target=self.handshake, args=(start,), daemon=True,
+                         name="ssm_handshake").start()
 
     def on_joints(self, _stamp):
         """A robot's joint states arrived (its subscriber's thread)."""
@@ -81,6 +99,13 @@ class OperatorSteps:
         self._ready = False
         self._received = {}             # message number (1, 2, ...) -> message
         self._count = self._taken = 0
+
+    def restart(self):
+        """As built: not ready, nothing received or taken."""
+        with self._cond:
+            self._ready = False
+            self._received, self._count, self._taken = {}, 0, 0
+            self._cond.notify_all()
 
     def on_message(self, msg):
         """An estimate arrived (its subscriber's thread)."""

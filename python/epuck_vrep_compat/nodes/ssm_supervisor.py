@@ -22,7 +22,8 @@ joint states or a failed separation query stop the robot (scale 0), with the rea
 ``~lockstep_timeout_s``) it answers every step from that step's inputs (:mod:`ssm_pacing`),
 and with ``~lockstep_operator`` (false) from that step's operator estimate too.
 ``~set_enabled`` (``std_srvs/SetBool``) turns the override off (scale 1, monitoring goes on)
-and on again. Parameters: ``~robots`` (default: every robot the simulator reports),
+and on again; ``~reset`` (``std_srvs/Trigger``, :mod:`node_reset`): as launched, for the next
+run of one launch. Parameters: ``~robots`` (default: every robot the simulator reports),
 ``~ground_truth`` (false), ``~rate_hz`` (20), ``~stale_s`` (0.5) and the fields of
 :class:`SsmParameters` with their defaults.
 """
@@ -41,6 +42,7 @@ from epuck_vrep_compat.nodes.ssm_channel import RobotChannel
 from epuck_vrep_compat.nodes.ssm_markers import robot_markers
 from epuck_vrep_compat.nodes.ssm_model import (
     SsmParameters, operator_uncertainty, protective_separation)
+from epuck_vrep_compat.nodes.node_reset import ResetService, clear_tf, restart_ros_time
 from epuck_vrep_compat.nodes.ssm_pacing import OperatorSteps, StepPacer
 from epuck_vrep_compat.nodes.step_inputs import NotifyingTransformListener
 from epuck_vrep_compat.ros.common.log import ThrottledLog
@@ -75,19 +77,16 @@ class SsmSupervisor:
     """The supervisor's state and its cycle (see the module's docstring)."""
 
     def __init__(self):
-        (self.p, robots, self.ground_truth, rate_hz, self.stale_s,
+        (self.p, robots, self.ground_truth, self.rate_hz, self.stale_s,
          operator_topic, self.lockstep) = read_parameters()
-        self.enabled = True
-        self.log = ThrottledLog()
-        self.operator = None
-        self.cycle_s = 1.0 / rate_hz           # the period, until two cycles tell it
-        self._last_cycle = rospy.Time(0)
+        rate_hz = self.rate_hz
+        self.start_state()
         self.tf_buffer = tf2_ros.Buffer(rospy.Duration(5.0))
         self._tf_listener = NotifyingTransformListener(self.tf_buffer)
         self.operator_steps = (OperatorSteps() if self.lockstep and not self.ground_truth
                                and read_typed("lockstep_operator", False, bool) else None)
-        pacer = (StepPacer({}, self.cycle, self._tf_listener, self.operator_steps)
-                 if self.lockstep else None)
+        self.pacer = pacer = (StepPacer({}, self.cycle, self._tf_listener, self.operator_steps)
+                              if self.lockstep else None)
         self.channels = {name: RobotChannel(name, self.p, self.lockstep,
                                             pacer.on_joints if pacer else None)
                          for name in robots}
@@ -111,6 +110,29 @@ class SsmSupervisor:
             pacer.handshake()
         else:
             self.timer = rospy.Timer(rospy.Duration(1.0 / rate_hz), self.cycle)
+
+    def start_state(self):
+        """What a run changes, as at the start (the robots' channels apart)."""
+        self.enabled = True
+        self.log = ThrottledLog()
+        self.operator = None
+        self.cycle_s = 1.0 / self.rate_hz      # the period, until two cycles tell it
+        self._last_cycle = rospy.Time(0)
+
+    def reset(self):
+        """``~reset``: as launched (the simulator rewound, paused before its first step): each
+        robot's channel too, the override on; in lock-step the ready scale again once the
+        operator's estimate is ready (:meth:`StepPacer.restart`), else the timer from 0."""
+        restart_ros_time()
+        clear_tf(self._tf_listener)
+        self.start_state()
+        for channel in self.channels.values():
+            channel.restart()
+        if self.pacer is not None:
+            self.pacer.restart()
+        else:
+            self.timer.shutdown()
+            self.timer = rospy.Timer(rospy.Duration(1.0 / self.rate_hz), self.cycle)
 
     def _on_operator(self, msg):
         self.operator = msg
@@ -228,7 +250,7 @@ def _xyz(point):
 def main():
     rospy.init_node("ssm_supervisor")
     try:
-        SsmSupervisor()
+        ResetService(SsmSupervisor().reset)
     except ParamError as error:
         rospy.logfatal("ssm_supervisor: %s", error)
         return 2

@@ -42,6 +42,10 @@ class StepClock:
         self.last = rospy.Time(0)
         self.subscriber = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=100)
 
+    def reset(self):
+        """As built: the next ``/clock`` time above 0 is a step (a rewound simulator)."""
+        self.last = rospy.Time(0)
+
     def _on_clock(self, msg):
         if msg.clock <= self.last:
             return
@@ -63,6 +67,11 @@ class Inbox:
             self._msg = msg
             self.frame_id = msg.header.frame_id
             self._cond.notify_all()
+
+    def reset(self):
+        """As built: nothing waiting, no frame."""
+        with self._cond:
+            self._msg, self.frame_id = None, ""
 
     def take(self):
         """The newest message not taken yet, or None."""

@@ -4,7 +4,10 @@ once, from that step's inputs alone, whatever order they arrive in.
 At each new ``/clock`` time t (:class:`step_inputs.StepClock`), the step's inputs:
 
 - the laser's scan, when the laser scans at t (every ``~laser_period_s``, 0.1 s: the cell's
-  laser scans on multiples of its period, :func:`step_inputs.due`), waited for by its stamp;
+  laser scans on multiples of its period, :func:`step_inputs.due`, and at time 0, at a launch
+  or a rewind, a scan it sends with the first step), waited for by its stamp (had the first
+  step not waited for the scan of time 0, whether it came before that step's estimate would
+  have changed the laser's background, and so a walk's row, by chance);
 - the Kinect's depth image, when the Kinect node in lock-step takes one at t (every
   ``~kinect_period_s``, 0.1 s: its rate; 0 without it), waited for by its stamp;
 - the ceiling cameras' blobs, read from ``/vrep`` (``simRosGetFloatSignal``): their topics
@@ -38,8 +41,9 @@ class TrackerSteps:
 
     def __init__(self, tracker, laser_period_s, kinect_period_s):
         self.tracker = tracker
-        self.inputs = [("laser scan", tracker.scan, tracker.scan_sub, laser_period_s),
-                       ("depth image", tracker.depth, tracker.depth_sub, kinect_period_s)]
+        # (what, inbox, subscriber, period, whether the sensor also sends one at the first step)
+        self.inputs = [("laser scan", tracker.scan, tracker.scan_sub, laser_period_s, True),
+                       ("depth image", tracker.depth, tracker.depth_sub, kinect_period_s, False)]
         self.signals = {key: BLOB_TOPIC_FORMAT.format(camera=key[0], axis=key[1]).rsplit("/", 1)[1]
                         for key in tracker.blobs}
         rospy.wait_for_service(SIGNAL_SERVICE)
@@ -51,10 +55,17 @@ class TrackerSteps:
         self.clock = StepClock(self.step)
         self.handshake()
 
+    def restart(self):
+        """As built (the tracker reset): every sensor there again, ``/clock`` from 0, and the
+        ready message again."""
+        self.gone = set()
+        self.clock.reset()
+        self.handshake()
+
     def handshake(self):
         """Once ``/clock`` and every input waited for are connected: the latched message
         stamped 0."""
-        subscribers = [self.clock.subscriber] + [sub for _, _, sub, period in self.inputs
+        subscribers = [self.clock.subscriber] + [sub for _, _, sub, period, _ in self.inputs
                                                  if period > 0.0]
         while not rospy.is_shutdown() and any(s.get_num_connections() == 0
                                               for s in subscribers):
@@ -64,9 +75,10 @@ class TrackerSteps:
     def step(self, stamp, previous):
         """The estimate of the step at ``stamp`` (the previous step's at ``previous``)."""
         t, t_prev = stamp.to_sec(), previous.to_sec()
-        for what, inbox, sub, period in self.inputs:
+        for what, inbox, sub, period, at_start in self.inputs:
             inbox.discard_before(stamp)
-            if (not due(t_prev, t, period) or inbox.wait_for(stamp, timeout_s=0.0)
+            due_now = due(t_prev, t, period) or (at_start and period > 0.0 and t_prev == 0.0)
+            if (not due_now or inbox.wait_for(stamp, timeout_s=0.0)
                     or not self.sensor_exists(inbox.frame_id)):
                 continue
             if (not inbox.wait_for(stamp, gone=lambda s=sub: s.get_num_connections() == 0)

@@ -23,6 +23,9 @@ instead (each new ``/clock`` time): at each step whose time passes a multiple of
 stamped with the step's time, so that a reader in lock-step (``operator_tracker``'s
 ``~kinect_period_s``, the same rule: ``nodes/step_inputs.due``) knows which steps bring an
 image, and the simulator, waiting for that reader, answers from that step's state.
+``~reset`` (``std_srvs/Trigger``): as launched, for the next run of one launch (the simulator
+rewound: the next ``/clock`` time above 0 is a step; the sensors' handles and clipping planes
+asked again); see ``nodes/node_reset.py`` for what a reset promises.
 """
 import io
 import math
@@ -36,13 +39,14 @@ from sensor_msgs.msg import Image
 from rospy.numpy_msg import numpy_msg
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension
+from std_srvs.srv import Trigger, TriggerResponse
 from vrep_common.srv import (
     simRosGetObjectFloatParameter, simRosGetVisionSensorDepthBuffer,
     simRosGetVisionSensorDepthBufferResponse)
 
 from epuck_vrep_compat.compat import thesis_names
 from epuck_vrep_compat.compat import vrep_codes as vc
-from epuck_vrep_compat.compat.topics import KINECT_DEPTH_IMAGE_TOPIC
+from epuck_vrep_compat.compat.topics import KINECT_DEPTH_IMAGE_TOPIC, NODE_RESET_SERVICE
 from epuck_vrep_compat.ros.common.params import read_typed
 from epuck_vrep_compat.thesis import params
 from epuck_vrep_compat.thesis.cameras import IMAGE_SERVICES, read_image, stamp_header
@@ -134,6 +138,7 @@ class Kinect:
         self._rgb_pub = rospy.Publisher(thesis_names.KINECT_RGB_IMAGE_TOPIC, Image, queue_size=1)
         self._clipping_checked = False
         self._ready = True
+        self._reset = rospy.Service("~" + NODE_RESET_SERVICE, Trigger, self._on_reset)
         rospy.loginfo("%s: depth '%s' -> %s, %s (clipping %.2f .. %.2f m); rgb '%s' -> %s; "
                       "rate %.1f Hz", rospy.get_name(), self.depth_sensor,
                       thesis_names.KINECT_DEPTH_BUFFER_TOPIC, KINECT_DEPTH_IMAGE_TOPIC,
@@ -189,6 +194,15 @@ class Kinect:
                 if stamp is not None:
                     image.header.stamp = stamp
                 self._rgb_pub.publish(image)
+
+    def _on_reset(self, _req):
+        """``~reset``: as launched (see the module)."""
+        self._last_step = rospy.Time(0)
+        self._clipping_checked = False
+        for name in (self.depth_sensor, self.rgb_sensor):
+            self.client.forget_handle(name)
+        rospy.loginfo("%s: reset: as launched", rospy.get_name())
+        return TriggerResponse(success=True, message="")
 
     def _on_clock(self, msg):
         """Lock-step: a new step reads when its time passes a multiple of the period."""
