@@ -74,6 +74,7 @@ struct EpuckSwarm::Shared {
   std::vector<Pose2> start;
   std::vector<MovableBody> bodies;
   std::vector<char> touched;
+  ContactCache contacts;  // its working lists, which every sharing swarm's cache uses
 };
 
 std::shared_ptr<EpuckSwarm::Shared> EpuckSwarm::share(const EpuckModel& model) {
@@ -93,6 +94,7 @@ EpuckSwarm::EpuckSwarm(CollisionWorld& world, std::shared_ptr<Shared> shared, st
       cone_reader_(shared_->cone_reader), candidates_(shared_->candidates),
       body_boxes_(shared_->body_boxes), start_(shared_->start), bodies_(shared_->bodies),
       touched_(shared_->touched), seed_(seed) {
+  contact_cache_.share_scratch(shared_->contacts);
   sensor_z_min_m_ = model_.sensors.front().position_m.z();
   sensor_z_max_m_ = sensor_z_min_m_;
   for (const ConeSensor& sensor : model_.sensors) {
