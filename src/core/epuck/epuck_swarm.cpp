@@ -94,6 +94,7 @@ EpuckSwarm::EpuckSwarm(CollisionWorld& world, std::shared_ptr<Shared> shared, st
       cone_reader_(shared_->cone_reader), candidates_(shared_->candidates),
       body_boxes_(shared_->body_boxes), start_(shared_->start), bodies_(shared_->bodies),
       touched_(shared_->touched), seed_(seed) {
+  static_assert(sizeof(Robot) == 4 * 64, "a robot's per-step state fills four cache lines");
   contact_cache_.share_scratch(shared_->contacts);
   sensor_z_min_m_ = model_.sensors.front().position_m.z();
   sensor_z_max_m_ = sensor_z_min_m_;
