@@ -13,6 +13,10 @@ nor building the worlds counts; warm-up steps do, so count twice, with ``--steps
         /usr/bin/python3 bench/step_instructions.py --worlds 100 --robots 10 --steps 50
     callgrind_annotate /tmp/cg.<pid> | head -40     # the total and where it goes
 
+Add ``--cache-sim=yes --branch-sim=yes --D1=49152,12,64 --LL=2097152,16,64`` for cache misses
+(L1d and this machine's 2 MiB L2 as the last level) and branch mispredictions, which tell more
+than instructions where a step waits on memory (docs/benchmarks.md, "Learning").
+
 Instruction counts do not depend on the machine's load, unlike wall time. Without valgrind the
 script just steps (a smoke test).
 """

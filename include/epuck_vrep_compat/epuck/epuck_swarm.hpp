@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "epuck_vrep_compat/epuck/cone_sensor.hpp"
@@ -59,6 +60,13 @@ class EpuckSwarm {
  public:
   /// Validates @p model (std::invalid_argument).
   EpuckSwarm(CollisionWorld& world, const EpuckModel& model, std::uint64_t seed);
+  /// A swarm of @p like's model in another world, sharing with @p like what does not change
+  /// (the model, its cones' rays) and the working lists of a step, so that many small swarms
+  /// stepped one after the other (BatchedWorlds) keep one copy of them in the cache, not one
+  /// each. Swarms that share must never step at the same time.
+  EpuckSwarm(CollisionWorld& world, const EpuckSwarm& like, std::uint64_t seed);
+  EpuckSwarm(const EpuckSwarm&) = delete;
+  EpuckSwarm& operator=(const EpuckSwarm&) = delete;
 
   /// Adds a robot standing at (x, y) with heading yaw: its body cylinder goes into the world
   /// under @p handle (group ROBOT). Returns the robot's index. Throws std::invalid_argument for
@@ -147,62 +155,86 @@ class EpuckSwarm {
   std::int64_t frame() const { return frame_; }
 
  private:
-  struct SensorOutput {
-    double clean_m = 0.0;
-    double noisy_m = 0.0;
+  // A sensor's detection, read by detected_handles, _points and _normals (not by the step's
+  // outputs, so kept apart from the readings).
+  struct Detection {
     int handle = -1;
     Vec3 point_m = Vec3::Zero();
     Vec3 normal = Vec3::Zero();
   };
-  struct Robot {
+  // What every step reads and writes of a robot, in four cache lines: a batch of small worlds
+  // touches each world's robots once a step, so the fewer lines, the fewer misses.
+  struct alignas(64) Robot {
     int handle = -1;
-    std::uint64_t stream = 0;      // derive_seed's index: the robot's own noise streams
+    bool has_velocity = false;     // false until a step after add or teleport
+    bool ir_noise_on = false;      // some sensor's noise probability is above zero
+    bool sensors_blank = false;    // every sensor reads nothing, as clear_sensors leaves it
+    bool in_contact = false;
+    bool accel_noise_on = false;   // some axis's SD is above zero (RobotNoise)
+    bool gyro_noise_on = false;
+    bool slip_on = false;          // RobotNoise::slip_stddev > 0
     Pose2 pose;
     Pose2 odometry;
     Twist2 odometry_twist;
     Twist2 twist;                  // the body's, from wheel_speed (the last step's)
     Vec3 velocity = Vec3::Zero();  // vx, vy, yaw rate
-    bool has_velocity = false;     // false until a step after add or teleport
     WheelPair wheel_speed;
     WheelPair wheel_angle;
     Vec3 accel = Vec3::Zero();
     Vec3 gyro = Vec3::Zero();
-    std::vector<SensorOutput> sensors;
-    std::vector<RangeNoise> ir_noise;
-    bool ir_noise_on = false;      // some sensor's noise probability is above zero
-    bool sensors_blank = false;    // every sensor reads nothing, as clear_sensors leaves it
-    Vec3 accel_stddev = Vec3::Zero();
-    Vec3 gyro_stddev = Vec3::Zero();
     Vec3 accel_bias = Vec3::Zero();
     Vec3 gyro_bias = Vec3::Zero();
-    double slip_stddev = 0.0;
-    bool in_contact = false;
-    Rng ir_rng, accel_rng, gyro_rng, slip_rng;
     std::uint64_t ir_draws_owed = 0;  // IR draws skipped since ir_rng was seeded (see step)
+  };
+  // A robot's noise streams and settings, read by a step only where noise is on.
+  struct RobotNoise {
+    std::uint64_t stream = 0;      // derive_seed's index: the robot's own noise streams
+    Vec3 accel_stddev = Vec3::Zero();
+    Vec3 gyro_stddev = Vec3::Zero();
+    double slip_stddev = 0.0;
+    std::vector<RangeNoise> ir;
+    Rng ir_rng, accel_rng, gyro_rng, slip_rng;
   };
 
   Robot& robot_at(int index);
-  void seed_streams(Robot& robot) const;
+  void seed_streams(Robot& robot, RobotNoise& noise) const;
   void clear_motion(Robot& robot) const;
-  void clear_sensors(Robot& robot) const;
+  void clear_sensors(std::size_t index);
   Pose body_pose(const Pose2& pose) const;
   void move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cmd_rad_s);
-  void read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
+  void read_imu(std::size_t index, const Vec3& velocity, double yaw_at_start_rad, double dt_s);
   using NearbyIterator = std::vector<const Body*>::const_iterator;
   void find_nearby(bool world_changed);
   void find_nearby_among(const std::vector<const Body*>& bodies, double reach_m);
-  void read_proximity(Robot& robot, const Quat& heading, NearbyIterator begin,
+  void read_proximity(std::size_t index, const Quat& heading, NearbyIterator begin,
                       NearbyIterator end);
   template <typename Get>
   RowMatrixXd per_robot(int columns, Get get) const;
   template <typename Get>
   RowMatrixXd per_sensor_vector(Get get) const;
-  RowMatrixXd sensor_values(double SensorOutput::*reading) const;
+  RowMatrixXd sensor_values(const std::vector<double>& readings) const;
+
+  struct BodyBox {                                 // a body's box in the plane
+    Eigen::Vector2d low_m, high_m;
+    const Body* body;
+    int handle;                                    // body's
+  };
+  struct Shared;  // the model, its rays and a step's scratch, shared by swarms of one model
+  EpuckSwarm(CollisionWorld& world, std::shared_ptr<Shared> shared, std::uint64_t seed);
+  static std::shared_ptr<Shared> share(const EpuckModel& model);
 
   CollisionWorld& world_;
-  EpuckModel model_;
-  std::vector<std::vector<Vec3>> ray_directions_;  // per sensor, sensor frame
-  std::vector<Quat> sensor_orientations_;          // per sensor, sensor to body
+  std::shared_ptr<Shared> shared_;
+  // Shared_'s, by name (see Shared).
+  const EpuckModel& model_;
+  const std::vector<std::vector<Vec3>>& ray_directions_;  // per sensor, sensor frame
+  const std::vector<Quat>& sensor_orientations_;          // per sensor, sensor to body
+  ConeReader& cone_reader_;
+  std::vector<ConeCandidate>& candidates_;          // one robot's, for its cones
+  std::vector<BodyBox>& body_boxes_;                // of find_nearby_among
+  std::vector<Pose2>& start_;                       // of step(): poses at its start
+  std::vector<MovableBody>& bodies_;                // of step(): bodies to resolve
+  std::vector<char>& touched_;                      // of step(): contacts found
   double sensor_reach_m_ = 0.0;   // how far from the robot's vertical axis a cone reaches
   double sensor_z_min_m_ = 0.0;   // lowest and highest points a cone reaches
   double sensor_z_max_m_ = 0.0;
@@ -210,25 +242,19 @@ class EpuckSwarm {
   double sensor_ball_m_ = 0.0;    // how far a cone reaches from the robot's axis at that height
   std::uint64_t seed_;
   std::vector<Robot> robots_;
+  std::vector<RobotNoise> noise_;  // per robot, as robots_
+  // Per robot and sensor, row i * K + k: the readings every step copies out, contiguous.
+  std::vector<double> clean_m_, noisy_m_;
+  std::vector<Detection> detections_;
   std::uint64_t next_stream_ = 0;  // stream id of the next robot added
   std::int64_t frame_ = 0;
   ContactCache contact_cache_;     // the contact neighbour lists, from one step to the next
-  ConeReader cone_reader_;
   // What each robot's cones may see (find_nearby), kept from one step to the next.
   bool nearby_valid_ = false;      // a step completed, leaving the world at revision_seen_
   std::uint64_t revision_seen_ = 0;
   std::vector<std::size_t> nearby_first_;  // robot i's: nearby_[first[i], first[i + 1])
   std::vector<const Body*> nearby_;
   std::vector<Eigen::Vector2d> nearby_anchor_m_;  // each robot's x, y when they were found
-  std::vector<ConeCandidate> candidates_;          // scratch: one robot's, for its cones
-  struct BodyBox {                                 // a body's box in the plane
-    Eigen::Vector2d low_m, high_m;
-    const Body* body;
-  };
-  std::vector<BodyBox> body_boxes_;                // scratch of find_nearby_among
-  std::vector<Pose2> start_;                       // scratch of step(): poses at its start
-  std::vector<MovableBody> bodies_;                // scratch of step(): bodies to resolve
-  std::vector<char> touched_;                      // scratch of step(): contacts found
 };
 
 }  // namespace evc

@@ -63,8 +63,13 @@ class ContactCache {
   ContactCache& operator=(ContactCache&&) noexcept;
   /// Forgets the lists: the next call rebuilds them.
   void clear();
+  /// Uses @p other's working lists (which hold nothing from one call to the next) instead of
+  /// its own, so that many small worlds resolved one after the other keep one copy of them in
+  /// the cache. Caches that share must never be used at the same time.
+  void share_scratch(const ContactCache& other);
 
-  struct State;  // defined where it is used
+  struct State;    // defined where it is used
+  struct Scratch;  // likewise
 
  private:
   friend double resolve_penetrations(CollisionWorld&, std::vector<MovableBody>&,

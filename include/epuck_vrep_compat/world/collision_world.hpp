@@ -20,8 +20,9 @@
 /// lock; but nothing may change the world while they run.
 #pragma once
 
-#include <cstdint>
 #include <atomic>
+#include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -45,6 +46,11 @@ struct Body;
 /// Largest coordinate or size accepted, metres. Larger finite values (1e308) are refused like
 /// non-finite ones: squared in the ray tests they would overflow into inf and NaN.
 constexpr double kWorldLimit_m = 1e6;
+
+/// A world of at most this many objects is small: its stepping code (the swarm's cones and
+/// contacts) tests every object, which costs less than descending Bullet's broadphase tree
+/// (and keeping its boxes up to date for it).
+constexpr std::size_t kSmallWorld = 32;
 
 /// Thrown for a handle that names no object (the binding turns it into KeyError).
 class UnknownHandle : public std::out_of_range {

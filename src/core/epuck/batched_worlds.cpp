@@ -33,7 +33,10 @@ BatchedWorlds::BatchedWorlds(const EpuckModel& model, int worlds, int robots,
   for (int b = 0; b < worlds; ++b) {
     World& world = worlds_[b];
     world.collision = std::make_unique<CollisionWorld>();
-    world.swarm = std::make_unique<EpuckSwarm>(*world.collision, model, seeds[b]);
+    // Every world's swarm shares the first's model, rays and scratch (they step in turn).
+    world.swarm = b == 0 ? std::make_unique<EpuckSwarm>(*world.collision, model, seeds[b])
+                         : std::make_unique<EpuckSwarm>(*world.collision, *worlds_[0].swarm,
+                                                        seeds[b]);
     for (int r = 0; r < robots; ++r) {
       world.swarm->add_robot(kRobotHandleBase + r, kStartCell_m * (r % columns) - offset_m,
                              kStartCell_m * (r / columns) - offset_m, 0.0);

@@ -55,14 +55,50 @@ void check_planar_pose(double x_m, double y_m, double yaw_rad) {
 
 }  // namespace
 
+// What swarms of one model share: the model and its cones' rays, which never change, and the
+// working lists of a step, which hold nothing from one step to the next (each step fills them
+// before reading them), so that a swarm may step with lists another swarm left.
+struct EpuckSwarm::Shared {
+  explicit Shared(const EpuckModel& m) : model(m) {
+    for (const ConeSensor& sensor : model.sensors) {
+      ray_directions.push_back(cone_ray_directions(sensor));
+      sensor_orientations.push_back(sensor_orientation(sensor));
+    }
+  }
+  const EpuckModel model;
+  std::vector<std::vector<Vec3>> ray_directions;
+  std::vector<Quat> sensor_orientations;
+  ConeReader cone_reader;
+  std::vector<ConeCandidate> candidates;
+  std::vector<BodyBox> body_boxes;
+  std::vector<Pose2> start;
+  std::vector<MovableBody> bodies;
+  std::vector<char> touched;
+  ContactCache contacts;  // its working lists, which every sharing swarm's cache uses
+};
+
+std::shared_ptr<EpuckSwarm::Shared> EpuckSwarm::share(const EpuckModel& model) {
+  validate_epuck_model(model);
+  return std::make_shared<Shared>(model);
+}
+
 EpuckSwarm::EpuckSwarm(CollisionWorld& world, const EpuckModel& model, std::uint64_t seed)
-    : world_(world), model_(model), seed_(seed) {
-  validate_epuck_model(model_);
+    : EpuckSwarm(world, share(model), seed) {}
+
+EpuckSwarm::EpuckSwarm(CollisionWorld& world, const EpuckSwarm& like, std::uint64_t seed)
+    : EpuckSwarm(world, like.shared_, seed) {}
+
+EpuckSwarm::EpuckSwarm(CollisionWorld& world, std::shared_ptr<Shared> shared, std::uint64_t seed)
+    : world_(world), shared_(std::move(shared)), model_(shared_->model),
+      ray_directions_(shared_->ray_directions), sensor_orientations_(shared_->sensor_orientations),
+      cone_reader_(shared_->cone_reader), candidates_(shared_->candidates),
+      body_boxes_(shared_->body_boxes), start_(shared_->start), bodies_(shared_->bodies),
+      touched_(shared_->touched), seed_(seed) {
+  static_assert(sizeof(Robot) == 4 * 64, "a robot's per-step state fills four cache lines");
+  contact_cache_.share_scratch(shared_->contacts);
   sensor_z_min_m_ = model_.sensors.front().position_m.z();
   sensor_z_max_m_ = sensor_z_min_m_;
   for (const ConeSensor& sensor : model_.sensors) {
-    ray_directions_.push_back(cone_ray_directions(sensor));
-    sensor_orientations_.push_back(sensor_orientation(sensor));
     sensor_reach_m_ =
         std::max(sensor_reach_m_, sensor.position_m.head<2>().norm() + sensor.max_range_m);
     sensor_z_min_m_ = std::min(sensor_z_min_m_, sensor.position_m.z() - sensor.max_range_m);
@@ -81,18 +117,25 @@ int EpuckSwarm::add_robot(int handle, double x_m, double y_m, double yaw_rad) {
   robot.handle = handle;
   robot.pose = Pose2{x_m, y_m, wrap_angle(yaw_rad)};
   clear_motion(robot);
-  robot.ir_noise.assign(model_.sensors.size(), RangeNoise());
-  robot.stream = next_stream_;
-  seed_streams(robot);
+  RobotNoise noise;
+  noise.ir.assign(model_.sensors.size(), RangeNoise());
+  noise.stream = next_stream_;
+  seed_streams(robot, noise);
   world_.add_cylinder(handle, model_.body_radius_m, model_.body_height_m, body_pose(robot.pose),
                       kRobotBodyRgb, kGroupRobot);
   ++next_stream_;  // only once the body is in: a refused robot takes no stream
-  robots_.push_back(std::move(robot));
+  robots_.push_back(robot);
+  noise_.push_back(std::move(noise));
+  const std::size_t readings = robots_.size() * model_.sensors.size();
+  clean_m_.resize(readings);
+  noisy_m_.resize(readings);
+  detections_.resize(readings);
+  clear_sensors(robots_.size() - 1);
   return size() - 1;
 }
 
-// Everything of a robot that a step changes, other than its pose, as a robot just added at that
-// pose has it.
+// Everything of a robot that a step changes, other than its pose and its readings
+// (clear_sensors), as a robot just added at that pose has it.
 void EpuckSwarm::clear_motion(Robot& robot) const {
   robot.odometry = robot.pose;
   robot.odometry_twist = Twist2();
@@ -103,18 +146,16 @@ void EpuckSwarm::clear_motion(Robot& robot) const {
   robot.accel = Vec3(0.0, 0.0, model_.gravity_m_s2);
   robot.gyro.setZero();
   robot.in_contact = false;
-  clear_sensors(robot);
 }
 
-// Every cone of the robot reads nothing: no handle, no point, the maximum range.
-void EpuckSwarm::clear_sensors(Robot& robot) const {
-  robot.sensors.clear();
-  for (const ConeSensor& sensor : model_.sensors) {
-    SensorOutput nothing;
-    nothing.clean_m = nothing.noisy_m = sensor.max_range_m;
-    robot.sensors.push_back(nothing);
+// Every cone of robot @p index reads nothing: no handle, no point, the maximum range.
+void EpuckSwarm::clear_sensors(std::size_t index) {
+  const std::size_t first = index * model_.sensors.size();
+  for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
+    clean_m_[first + k] = noisy_m_[first + k] = model_.sensors[k].max_range_m;
+    detections_[first + k] = Detection();
   }
-  robot.sensors_blank = true;
+  robots_[index].sensors_blank = true;
 }
 
 void EpuckSwarm::remove_robot(int index) {
@@ -122,24 +163,33 @@ void EpuckSwarm::remove_robot(int index) {
   // A body someone already took out of the world must not keep the robot in the swarm.
   if (world_.has(robot.handle)) world_.remove(robot.handle);
   robots_.erase(robots_.begin() + index);
+  noise_.erase(noise_.begin() + index);
+  const auto first = static_cast<std::ptrdiff_t>(index * model_.sensors.size());
+  const auto last = first + static_cast<std::ptrdiff_t>(model_.sensors.size());
+  clean_m_.erase(clean_m_.begin() + first, clean_m_.begin() + last);
+  noisy_m_.erase(noisy_m_.begin() + first, noisy_m_.begin() + last);
+  detections_.erase(detections_.begin() + first, detections_.begin() + last);
 }
 
-void EpuckSwarm::seed_streams(Robot& robot) const {
-  robot.ir_rng = Rng(derive_seed(seed_, robot.stream, kStreamIr));
+void EpuckSwarm::seed_streams(Robot& robot, RobotNoise& noise) const {
+  noise.ir_rng = Rng(derive_seed(seed_, noise.stream, kStreamIr));
   robot.ir_draws_owed = 0;
-  robot.accel_rng = Rng(derive_seed(seed_, robot.stream, kStreamAccel));
-  robot.gyro_rng = Rng(derive_seed(seed_, robot.stream, kStreamGyro));
-  robot.slip_rng = Rng(derive_seed(seed_, robot.stream, kStreamSlip));
+  noise.accel_rng = Rng(derive_seed(seed_, noise.stream, kStreamAccel));
+  noise.gyro_rng = Rng(derive_seed(seed_, noise.stream, kStreamGyro));
+  noise.slip_rng = Rng(derive_seed(seed_, noise.stream, kStreamSlip));
 }
 
 void EpuckSwarm::reseed(std::uint64_t seed) {
   seed_ = seed;
-  for (Robot& robot : robots_) seed_streams(robot);
+  for (std::size_t i = 0; i < robots_.size(); ++i) seed_streams(robots_[i], noise_[i]);
 }
 
 void EpuckSwarm::reset(std::uint64_t seed) {
   reseed(seed);
-  for (Robot& robot : robots_) clear_motion(robot);
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    clear_motion(robots_[i]);
+    clear_sensors(i);
+  }
   frame_ = 0;
   // What the last steps kept about the world goes too, so the next step finds it as the
   // first step after the robots were added did.
@@ -175,7 +225,7 @@ void EpuckSwarm::set_ir_noise(const Eigen::Ref<const RowMatrixXd>& probability,
   for (int i = 0; i < size(); ++i) {
     robots_[i].ir_noise_on = false;
     for (int k = 0; k < sensor_count(); ++k) {
-      robots_[i].ir_noise[k] = RangeNoise{probability(i, k), mean_m(i, k), stddev_m(i, k)};
+      noise_[i].ir[k] = RangeNoise{probability(i, k), mean_m(i, k), stddev_m(i, k)};
       robots_[i].ir_noise_on = robots_[i].ir_noise_on || probability(i, k) > 0.0;
     }
   }
@@ -188,8 +238,10 @@ void EpuckSwarm::set_imu_noise(const Eigen::Ref<const RowMatrixXd>& accel_stddev
   check_stddev(accel_stddev, kMaxImuStddev, "accel_stddev");
   check_stddev(gyro_stddev, kMaxImuStddev, "gyro_stddev");
   for (int i = 0; i < size(); ++i) {
-    robots_[i].accel_stddev = accel_stddev.row(i).transpose();
-    robots_[i].gyro_stddev = gyro_stddev.row(i).transpose();
+    noise_[i].accel_stddev = accel_stddev.row(i).transpose();
+    noise_[i].gyro_stddev = gyro_stddev.row(i).transpose();
+    robots_[i].accel_noise_on = !noise_[i].accel_stddev.isZero(0.0);
+    robots_[i].gyro_noise_on = !noise_[i].gyro_stddev.isZero(0.0);
   }
 }
 
@@ -208,7 +260,10 @@ void EpuckSwarm::set_imu_bias(const Eigen::Ref<const RowMatrixXd>& accel_bias,
 void EpuckSwarm::set_slip_noise(const Eigen::Ref<const VectorXd>& stddev) {
   check_length(stddev.size(), size(), "stddev");
   check_stddev(stddev.transpose(), kMaxSlipStddev, "stddev");
-  for (int i = 0; i < size(); ++i) robots_[i].slip_stddev = stddev[i];
+  for (int i = 0; i < size(); ++i) {
+    noise_[i].slip_stddev = stddev[i];
+    robots_[i].slip_on = stddev[i] > 0.0;
+  }
 }
 
 void EpuckSwarm::set_pose(int index, double x_m, double y_m, double yaw_rad) {
@@ -260,9 +315,9 @@ void EpuckSwarm::step(double dt_s, const Eigen::Ref<const RowMatrixXd>& wheel_cm
     Robot& robot = robots_[i];
     const Vec3 velocity((robot.pose.x_m - start[i].x_m) / dt_s,
                         (robot.pose.y_m - start[i].y_m) / dt_s, robot.twist.w_rad_s);
-    read_imu(robot, velocity, start[i].yaw_rad, dt_s);
+    read_imu(i, velocity, start[i].yaw_rad, dt_s);
     // The body's orientation is the robot's heading: contacts moved the body, never turned it.
-    read_proximity(robot, bodies_[i].pose.orientation, nearby_.begin() + nearby_first_[i],
+    read_proximity(i, bodies_[i].pose.orientation, nearby_.begin() + nearby_first_[i],
                    nearby_.begin() + nearby_first_[i + 1]);
   }
   revision_seen_ = world_.revision();
@@ -275,14 +330,17 @@ void EpuckSwarm::move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& w
     Robot& robot = robots_[i];
     const WheelPair command = clamp_wheel_command(
         {wheel_cmd_rad_s(i, 0), wheel_cmd_rad_s(i, 1)}, model_.max_wheel_speed_rad_s);
-    robot.wheel_speed = apply_wheel_slip(command, robot.slip_stddev, robot.slip_rng);
+    // Without slip no draw, and the wheels turn as commanded (apply_wheel_slip).
+    robot.wheel_speed =
+        robot.slip_on ? apply_wheel_slip(command, noise_[i].slip_stddev, noise_[i].slip_rng)
+                      : command;
     robot.wheel_angle.left += robot.wheel_speed.left * dt_s;
     robot.wheel_angle.right += robot.wheel_speed.right * dt_s;
     const Twist2 actual =
         body_twist(robot.wheel_speed, model_.wheel_radius_m, model_.wheel_separation_m);
     robot.twist = actual;
     // Without slip the wheels turn as commanded: odometry's twist is the same, bit for bit.
-    robot.odometry_twist = robot.slip_stddev <= 0.0 ? actual
+    robot.odometry_twist = !robot.slip_on ? actual
                            : body_twist(command, model_.wheel_radius_m, model_.wheel_separation_m);
     // Odometry that shares the heading and the twist moves along the same arc (contacts never
     // turn a robot, so they share it until slip or set_odometry parts them).
@@ -296,8 +354,9 @@ void EpuckSwarm::move_robots(double dt_s, const Eigen::Ref<const RowMatrixXd>& w
   }
 }
 
-void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_start_rad,
+void EpuckSwarm::read_imu(std::size_t index, const Vec3& velocity, double yaw_at_start_rad,
                           double dt_s) {
+  Robot& robot = robots_[index];
   Vec3 accel_world = Vec3::Zero();
   if (robot.has_velocity) {
     accel_world.head<2>() = (velocity.head<2>() - robot.velocity.head<2>()) / dt_s;
@@ -309,12 +368,12 @@ void EpuckSwarm::read_imu(Robot& robot, const Vec3& velocity, double yaw_at_star
   const Vec3 force = specific_force(accel_world, yaw_at_start_rad, model_.gravity_m_s2);
   // An axis without noise draws nothing and adds nothing (add_axis_noise).
   robot.accel = force + robot.accel_bias;
-  if (!robot.accel_stddev.isZero(0.0)) {
-    robot.accel = add_axis_noise(robot.accel, robot.accel_stddev, robot.accel_rng);
+  if (robot.accel_noise_on) {
+    robot.accel = add_axis_noise(robot.accel, noise_[index].accel_stddev, noise_[index].accel_rng);
   }
   robot.gyro = Vec3(0.0, 0.0, velocity.z()) + robot.gyro_bias;
-  if (!robot.gyro_stddev.isZero(0.0)) {
-    robot.gyro = add_axis_noise(robot.gyro, robot.gyro_stddev, robot.gyro_rng);
+  if (robot.gyro_noise_on) {
+    robot.gyro = add_axis_noise(robot.gyro, noise_[index].gyro_stddev, noise_[index].gyro_rng);
   }
 }
 
@@ -367,19 +426,21 @@ void EpuckSwarm::find_nearby_among(const std::vector<const Body*>& bodies, doubl
     body->shape->getAabb(body->object->getWorldTransform(), low, high);
     if (low.z() > sensor_z_max_m_ || high.z() < sensor_z_min_m_) continue;
     body_boxes_.push_back(BodyBox{Eigen::Vector2d(low.x(), low.y()),
-                                  Eigen::Vector2d(high.x(), high.y()), body});
+                                  Eigen::Vector2d(high.x(), high.y()), body, body->handle});
   }
   nearby_first_.assign(robots_.size() + 1, 0);
   nearby_.clear();
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     const Pose2& pose = robots_[i].pose;
+    const double low_x = pose.x_m - reach_m, high_x = pose.x_m + reach_m;
+    const double low_y = pose.y_m - reach_m, high_y = pose.y_m + reach_m;
+    const int self = robots_[i].handle;
     for (const BodyBox& box : body_boxes_) {
-      if (box.low_m.x() > pose.x_m + reach_m || box.high_m.x() < pose.x_m - reach_m ||
-          box.low_m.y() > pose.y_m + reach_m || box.high_m.y() < pose.y_m - reach_m ||
-          box.body->handle == robots_[i].handle) {
-        continue;
-      }
-      nearby_.push_back(box.body);
+      // All five tests, without branching on each (which mispredicts half the time).
+      const bool apart = (box.low_m.x() > high_x) | (box.high_m.x() < low_x) |
+                         (box.low_m.y() > high_y) | (box.high_m.y() < low_y) |
+                         (box.handle == self);
+      if (!apart) nearby_.push_back(box.body);
     }
     nearby_first_[i + 1] = nearby_.size();
   }
@@ -388,8 +449,9 @@ void EpuckSwarm::find_nearby_among(const std::vector<const Body*>& bodies, doubl
 // [@p begin, @p end): what the robot's cones may see (from find_nearby); of these, only what
 // may lie within reach of one of its cones is handed to them. @p heading: the robot's yaw as a
 // rotation about z (its body's orientation, body_pose).
-void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterator begin,
+void EpuckSwarm::read_proximity(std::size_t index, const Quat& heading, NearbyIterator begin,
                                 NearbyIterator end) {
+  Robot& robot = robots_[index];
   const Pose2& pose = robot.pose;
   candidates_.clear();
   for (NearbyIterator it = begin; it != end; ++it) {
@@ -413,20 +475,22 @@ void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterato
   if (candidates_.empty() && !robot.ir_noise_on) {
     // Nothing nearby and no noise: every cone reads nothing, as clear_motion leaves it, and
     // every IR draw is owed (as below, sensor by sensor).
-    if (!robot.sensors_blank) clear_sensors(robot);
-    robot.ir_draws_owed += robot.sensors.size();
+    if (!robot.sensors_blank) clear_sensors(index);
+    robot.ir_draws_owed += model_.sensors.size();
     return;
   }
   robot.sensors_blank = false;
   const Vec3 centre(pose.x_m, pose.y_m, 0.0);
+  const std::size_t first = index * model_.sensors.size();
+  RobotNoise& noise_streams = noise_[index];
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
     const ConeSensor& sensor = model_.sensors[k];
-    SensorOutput& out = robot.sensors[k];
+    Detection& out = detections_[first + k];
+    double& clean_m = clean_m_[first + k];
+    double& noisy_m = noisy_m_[first + k];
     if (candidates_.empty()) {  // nothing nearby: skip all ray work
-      out.handle = -1;
-      out.point_m.setZero();
-      out.normal.setZero();
-      out.clean_m = sensor.max_range_m;
+      out = Detection();
+      clean_m = sensor.max_range_m;
     } else {
       const Pose sensor_pose{centre + heading * sensor.position_m,
                              heading * sensor_orientations_[k]};
@@ -435,23 +499,23 @@ void EpuckSwarm::read_proximity(Robot& robot, const Quat& heading, NearbyIterato
       out.handle = reading.handle;
       out.point_m = reading.point_m;
       out.normal = reading.normal;
-      out.clean_m = reading.handle < 0
+      clean_m = reading.handle < 0
                         ? sensor.max_range_m
                         : std::clamp(reading.distance_m, sensor.min_range_m, sensor.max_range_m);
     }
-    const RangeNoise& noise = robot.ir_noise[k];
+    const RangeNoise& noise = noise_streams.ir[k];
     if (noise.probability <= 0.0) {
       // The draw could not make the reading noisy (it is in (0, 1]): it is owed instead, and
       // made before the next draw that can, so every later draw is the one it would have been.
       ++robot.ir_draws_owed;
-      out.noisy_m = std::clamp(out.clean_m, sensor.min_range_m, sensor.max_range_m);
+      noisy_m = std::clamp(clean_m, sensor.min_range_m, sensor.max_range_m);
       continue;
     }
-    robot.ir_rng.discard(robot.ir_draws_owed);
+    noise_streams.ir_rng.discard(robot.ir_draws_owed);
     robot.ir_draws_owed = 0;
     bool applied = false;
-    out.noisy_m = apply_range_noise(out.clean_m, sensor.min_range_m, sensor.max_range_m, noise,
-                                    robot.ir_rng, applied);
+    noisy_m = apply_range_noise(clean_m, sensor.min_range_m, sensor.max_range_m, noise,
+                                noise_streams.ir_rng, applied);
   }
 }
 

@@ -3,6 +3,8 @@
 // buffer (write_outputs).
 #include "epuck_vrep_compat/epuck/epuck_swarm.hpp"
 
+#include <algorithm>
+
 namespace evc {
 namespace {
 
@@ -32,11 +34,9 @@ RowMatrixXd EpuckSwarm::per_robot(int columns, Get get) const {
   return out;
 }
 
-RowMatrixXd EpuckSwarm::sensor_values(double SensorOutput::*reading) const {
+RowMatrixXd EpuckSwarm::sensor_values(const std::vector<double>& readings) const {
   RowMatrixXd out(size(), sensor_count());
-  for (int i = 0; i < size(); ++i) {
-    for (int k = 0; k < sensor_count(); ++k) out(i, k) = robots_[i].sensors[k].*reading;
-  }
+  std::copy(readings.begin(), readings.end(), out.data());
   return out;
 }
 
@@ -46,7 +46,7 @@ RowMatrixXd EpuckSwarm::per_sensor_vector(Get get) const {
   for (int i = 0; i < size(); ++i) {
     for (int k = 0; k < sensor_count(); ++k) {
       out.row(static_cast<Eigen::Index>(i) * sensor_count() + k) =
-          get(robots_[i].sensors[k]).transpose();
+          get(detections_[static_cast<std::size_t>(i) * sensor_count() + k]).transpose();
     }
   }
   return out;
@@ -66,24 +66,26 @@ RowMatrixXd EpuckSwarm::wheel_angles() const {
 
 RowMatrixXd EpuckSwarm::odometry() const { return per_robot(5, kOdometryRow); }
 
-RowMatrixXd EpuckSwarm::ranges_clean() const { return sensor_values(&SensorOutput::clean_m); }
+RowMatrixXd EpuckSwarm::ranges_clean() const { return sensor_values(clean_m_); }
 
-RowMatrixXd EpuckSwarm::ranges() const { return sensor_values(&SensorOutput::noisy_m); }
+RowMatrixXd EpuckSwarm::ranges() const { return sensor_values(noisy_m_); }
 
 RowMatrixXi EpuckSwarm::detected_handles() const {
   RowMatrixXi out(size(), sensor_count());
   for (int i = 0; i < size(); ++i) {
-    for (int k = 0; k < sensor_count(); ++k) out(i, k) = robots_[i].sensors[k].handle;
+    for (int k = 0; k < sensor_count(); ++k) {
+      out(i, k) = detections_[static_cast<std::size_t>(i) * sensor_count() + k].handle;
+    }
   }
   return out;
 }
 
 RowMatrixXd EpuckSwarm::detected_points() const {
-  return per_sensor_vector([](const SensorOutput& s) { return s.point_m; });
+  return per_sensor_vector([](const Detection& s) { return s.point_m; });
 }
 
 RowMatrixXd EpuckSwarm::detected_normals() const {
-  return per_sensor_vector([](const SensorOutput& s) { return s.normal; });
+  return per_sensor_vector([](const Detection& s) { return s.normal; });
 }
 
 RowMatrixXd EpuckSwarm::accel() const { return per_robot(3, kAccelRow); }
@@ -97,17 +99,18 @@ VectorXb EpuckSwarm::in_contact() const {
 }
 
 void EpuckSwarm::write_outputs(const SwarmOutputRows& out) const {
-  const int k_count = sensor_count();
+  // The readings are kept in the outputs' layout: one copy each (Eigen's, inline, rather than
+  // a call to memmove for a few hundred bytes).
+  const Eigen::Index readings = static_cast<Eigen::Index>(noisy_m_.size());
+  Eigen::Map<VectorXd>(out.ranges, readings) = Eigen::Map<const VectorXd>(noisy_m_.data(), readings);
+  Eigen::Map<VectorXd>(out.ranges_clean, readings) =
+      Eigen::Map<const VectorXd>(clean_m_.data(), readings);
   for (int i = 0; i < size(); ++i) {
     const Robot& r = robots_[i];
     Eigen::Map<Eigen::RowVector3d>(out.poses + 3 * i) = kPoseRow(r);
     Eigen::Map<Eigen::RowVector3d>(out.velocities + 3 * i) = kVelocityRow(r);
     Eigen::Map<Eigen::RowVector2d>(out.wheel_speeds + 2 * i) = kWheelSpeedRow(r);
     Eigen::Map<Eigen::Matrix<double, 1, 5>>(out.odometry + 5 * i) = kOdometryRow(r);
-    for (int k = 0; k < k_count; ++k) {
-      out.ranges[i * k_count + k] = r.sensors[k].noisy_m;
-      out.ranges_clean[i * k_count + k] = r.sensors[k].clean_m;
-    }
     Eigen::Map<Eigen::RowVector3d>(out.accel + 3 * i) = kAccelRow(r);
     Eigen::Map<Eigen::RowVector3d>(out.gyro + 3 * i) = kGyroRow(r);
     out.in_contact[i] = r.in_contact;
@@ -123,7 +126,7 @@ VectorXi EpuckSwarm::handles() const {
 std::vector<std::uint64_t> EpuckSwarm::stream_ids() const {
   std::vector<std::uint64_t> out;
   out.reserve(robots_.size());
-  for (const Robot& robot : robots_) out.push_back(robot.stream);
+  for (const RobotNoise& noise : noise_) out.push_back(noise.stream);
   return out;
 }
 

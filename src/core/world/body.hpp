@@ -13,10 +13,6 @@
 
 namespace evc {
 
-// A world of at most this many objects is small: testing every object costs less than
-// descending Bullet's broadphase tree (and keeping its boxes up to date for it).
-constexpr std::size_t kSmallWorld = 32;
-
 struct Body {
   int handle = -1;
   int group = 0;

@@ -111,6 +111,20 @@ struct Described {
 
 }  // namespace
 
+// The working lists of one call (ContactFinder).
+struct ContactCache::Scratch {
+  std::vector<PlanarShape> shape;                // per listed body, centre as at the start
+  std::vector<char> dirty;                       // moved since the world last learnt its pose
+  std::vector<std::size_t> moved;                // the dirty bodies, in the order they moved
+  std::vector<const Body*> found;                // broadphase answers
+  std::vector<std::size_t> found_first;
+  std::vector<BoxQuery> queries;                 // the rebuild's, one per cylinder
+  std::vector<std::size_t> circles;              // the cylinders' indices, ascending
+  std::vector<Described> described;              // a small world's bodies, in handle order
+  std::vector<char> active, next_active;         // bodies to visit in this pass, the next
+  std::vector<Touch> touches;                    // one body's contacts
+};
+
 // The neighbour lists and what they were built for; kept in a ContactCache between calls.
 struct ContactCache::State {
   bool valid = false;                              // a call completed with these lists
@@ -122,19 +136,9 @@ struct ContactCache::State {
   std::vector<Eigen::Vector2d> anchor_m;           // per listed body: where, at the rebuild
   std::vector<Neighbour> neighbours;               // body i's: [first[i], first[i + 1])
   std::vector<std::size_t> first;
-  // Scratch of one call, kept so that a stepper calling every step allocates nothing.
-  struct Scratch {
-    std::vector<PlanarShape> shape;                // per listed body, centre as at the start
-    std::vector<char> dirty;                       // moved since the world last learnt its pose
-    std::vector<std::size_t> moved;                // the dirty bodies, in the order they moved
-    std::vector<const Body*> found;                // broadphase answers
-    std::vector<std::size_t> found_first;
-    std::vector<BoxQuery> queries;                 // the rebuild's, one per cylinder
-    std::vector<std::size_t> circles;              // the cylinders' indices, ascending
-    std::vector<Described> described;              // a small world's bodies, in handle order
-    std::vector<char> active, next_active;         // bodies to visit in this pass, the next
-    std::vector<Touch> touches;                    // one body's contacts
-  } scratch;
+  // Scratch of one call, kept so that a stepper calling every step allocates nothing (and
+  // shared between caches by share_scratch).
+  std::shared_ptr<Scratch> scratch = std::make_shared<Scratch>();
 };
 
 ContactCache::ContactCache() : state_(std::make_unique<State>()) {}
@@ -142,6 +146,9 @@ ContactCache::~ContactCache() = default;
 ContactCache::ContactCache(ContactCache&&) noexcept = default;
 ContactCache& ContactCache::operator=(ContactCache&&) noexcept = default;
 void ContactCache::clear() { state_->valid = false; }
+void ContactCache::share_scratch(const ContactCache& other) {
+  state_->scratch = other.state_->scratch;
+}
 
 namespace {
 
@@ -154,10 +161,10 @@ class ContactFinder {
   using State = ContactCache::State;
 
   ContactFinder(CollisionWorld& world, std::vector<MovableBody>& bodies, State& state)
-      : world_(world), bodies_(bodies), state_(state), shape_(state.scratch.shape),
-        dirty_(state.scratch.dirty), moved_(state.scratch.moved), found_(state.scratch.found),
-        found_first_(state.scratch.found_first), queries_(state.scratch.queries),
-        circles_(state.scratch.circles), described_(state.scratch.described) {
+      : world_(world), bodies_(bodies), state_(state), shape_(state.scratch->shape),
+        dirty_(state.scratch->dirty), moved_(state.scratch->moved), found_(state.scratch->found),
+        found_first_(state.scratch->found_first), queries_(state.scratch->queries),
+        circles_(state.scratch->circles), described_(state.scratch->described) {
     shape_.assign(bodies.size(), PlanarShape());
     dirty_.assign(bodies.size(), 0);
     moved_.clear();
@@ -448,7 +455,7 @@ class ContactFinder {
   std::vector<MovableBody>& bodies_;
   State& state_;                          // the lists, this call's or kept from the last
   double max_drift_squared_ = 0.0;        // longest displacement since the rebuild, squared
-  // The state's scratch (see State::Scratch).
+  // The state's scratch (see ContactCache::Scratch).
   std::vector<PlanarShape>& shape_;
   std::vector<char>& dirty_;
   std::vector<std::size_t>& moved_;
@@ -469,9 +476,9 @@ double resolve_penetrations(CollisionWorld& world, std::vector<MovableBody>& bod
   if (cache == nullptr) this_call.emplace();
   ContactCache::State& state = cache != nullptr ? *cache->state_ : *this_call;
   ContactFinder finder(world, bodies, state);
-  std::vector<char>& active = state.scratch.active;
-  std::vector<char>& next_active = state.scratch.next_active;
-  std::vector<Touch>& touches = state.scratch.touches;
+  std::vector<char>& active = state.scratch->active;
+  std::vector<char>& next_active = state.scratch->next_active;
+  std::vector<Touch>& touches = state.scratch->touches;
   active.assign(bodies.size(), 1);
   next_active.assign(bodies.size(), 0);
   double deepest = 0.0;

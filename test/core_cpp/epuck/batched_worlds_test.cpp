@@ -1,6 +1,8 @@
 // BatchedWorlds' determinism, in C++ alone: two batches built the same way with the same seeds
 // and stepped with the same commands hold bit-identical output buffers; a different seed in one
-// world changes that world's noise and nothing else; resetting a world repeats its first run.
+// world changes that world's noise and nothing else; resetting a world repeats its first run;
+// a world's outputs are those of a standalone swarm (its worlds' swarms share their model, rays
+// and working lists, which must carry nothing from one world to the next).
 // Three worlds of four e-pucks in a walled square with a cylinder, every noise source on.
 #include <gtest/gtest.h>
 
@@ -10,6 +12,7 @@
 
 #include "epuck_vrep_compat/epuck/batched_worlds.hpp"
 #include "epuck_vrep_compat/random/rng.hpp"
+#include "every_noise.hpp"
 
 namespace {
 
@@ -41,11 +44,7 @@ std::unique_ptr<BatchedWorlds> noisy_batch(const std::vector<std::uint64_t>& see
     batch->add_cylinder(w, Vec3(0.1, 0.12, 0.05), 0.03, 0.1);
     place(*batch, w);
   }
-  batch->set_ir_noise(RowMatrixXd::Constant(kRows, 8, 0.5), RowMatrixXd::Constant(kRows, 8, 0.002),
-                      RowMatrixXd::Constant(kRows, 8, 0.001));
-  batch->set_imu_noise(RowMatrixXd::Constant(kRows, 3, 0.05),
-                       RowMatrixXd::Constant(kRows, 3, 0.01));
-  batch->set_slip_noise(evc::VectorXd::Constant(kRows, 0.05));
+  set_every_noise(*batch, kRows);
   return batch;
 }
 
@@ -118,6 +117,57 @@ TEST(BatchedWorldsDeterminism, AResetWorldRepeatsItsFirstRun) {
   run(*fresh, 200);
   run(*reused, 200);
   expect_same(*fresh, *reused);
+}
+
+TEST(BatchedWorldsDeterminism, AWorldIsAStandaloneSwarm) {
+  auto batch = noisy_batch({1, 2, 3});
+  const int world = 1;
+  // The same world built alone, as BatchedWorlds builds it: obstacles under handles 0, 1, ...
+  // (their orientations normalised), robots added on the start grid, then placed.
+  evc::CollisionWorld alone_world;
+  const double offset = kHalf_m + 0.005;
+  const auto pose = [](const Vec3& centre) {
+    return evc::Pose{centre, evc::Quat(Eigen::AngleAxisd(0.0, Vec3::UnitZ())).normalized()};
+  };
+  const evc::Vec3 grey = evc::kObstacleRgb;
+  alone_world.add_box(0, Vec3(0.005, kHalf_m, 0.05), pose(Vec3(offset, 0, 0.05)), grey);
+  alone_world.add_box(1, Vec3(0.005, kHalf_m, 0.05), pose(Vec3(-offset, 0, 0.05)), grey);
+  alone_world.add_box(2, Vec3(kHalf_m, 0.005, 0.05), pose(Vec3(0, offset, 0.05)), grey);
+  alone_world.add_box(3, Vec3(kHalf_m, 0.005, 0.05), pose(Vec3(0, -offset, 0.05)), grey);
+  alone_world.add_cylinder(4, 0.03, 0.1, pose(Vec3(0.1, 0.12, 0.05)), grey);
+  evc::EpuckSwarm alone(alone_world, evc::EpuckModel(), 2);
+  for (int r = 0; r < kRobots; ++r) {
+    alone.add_robot(BatchedWorlds::kRobotHandleBase + r, 0.1 * (r % 2) - 0.05,
+                    0.1 * (r / 2) - 0.05, 0.0);
+    const double x = -0.18 + 0.08 * r, y = -0.1 + 0.07 * world, yaw = 0.4 * r + world;
+    alone.set_pose(r, x, y, yaw);
+    alone.set_odometry(r, x, y, yaw);
+  }
+  set_every_noise(alone, kRobots);
+  evc::Rng commands(4321);
+  RowMatrixXd command(kRows, 2);
+  for (int s = 0; s < 150; ++s) {
+    for (Eigen::Index i = 0; i < command.size(); ++i) {
+      command.data()[i] = -7.0 + 14.0 * commands.uniform();
+    }
+    batch->step(kDt_s, command);
+    alone.step(kDt_s, command.middleRows(world * kRobots, kRobots));
+  }
+  const evc::EpuckSwarm& in_batch = batch->swarm(world);
+  EXPECT_TRUE(same_rows(in_batch.poses(), alone.poses(), 0, kRobots));
+  EXPECT_TRUE(same_rows(in_batch.odometry(), alone.odometry(), 0, kRobots));
+  EXPECT_TRUE(same_rows(in_batch.ranges(), alone.ranges(), 0, kRobots));
+  EXPECT_TRUE(same_rows(in_batch.ranges_clean(), alone.ranges_clean(), 0, kRobots));
+  EXPECT_TRUE(same_rows(in_batch.accel(), alone.accel(), 0, kRobots));
+  EXPECT_TRUE(same_rows(in_batch.gyro(), alone.gyro(), 0, kRobots));
+  EXPECT_TRUE(same_rows(in_batch.detected_points(), alone.detected_points(), 0, kRobots * 8));
+  EXPECT_EQ(in_batch.detected_handles(), alone.detected_handles());
+  EXPECT_EQ(in_batch.in_contact(), alone.in_contact());
+  // Something was seen and touched, so the comparison covered the cones and the contacts.
+  EXPECT_TRUE((alone.detected_handles().array() >= 0).any());
+  // And the batch's buffers hold the same (write_outputs).
+  EXPECT_EQ(std::memcmp(batch->ranges().row(world * kRobots).data(), alone.ranges().data(),
+                        sizeof(double) * 8 * kRobots), 0);
 }
 
 }  // namespace

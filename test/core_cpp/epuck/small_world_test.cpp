@@ -14,6 +14,7 @@
 #include "epuck_vrep_compat/epuck/batched_worlds.hpp"
 #include "epuck_vrep_compat/random/rng.hpp"
 #include "epuck_vrep_compat/world/collision_world.hpp"
+#include "every_noise.hpp"
 
 namespace {
 
@@ -24,7 +25,9 @@ using evc::Vec3;
 constexpr double kDt_s = 0.05;
 constexpr int kRobots = 8;
 constexpr double kHalf_m = 0.16;
-constexpr std::size_t kSmallWorld = 32;  // the core's bound (src/core/world/body.hpp)  // a crowded square: the robots bump into each other and walls
+using evc::kSmallWorld;  // the core's bound (collision_world.hpp)
+
+// A crowded square: the robots bump into each other and walls.
 
 std::unique_ptr<BatchedWorlds> crowded(int far_cylinders) {
   auto batch = std::make_unique<BatchedWorlds>(evc::EpuckModel(), 1, kRobots,
@@ -41,12 +44,7 @@ std::unique_ptr<BatchedWorlds> crowded(int far_cylinders) {
   for (int r = 0; r < kRobots; ++r) {
     batch->set_pose(0, r, -0.12 + 0.075 * (r % 4), -0.08 + 0.12 * (r / 4), 0.7 * r);
   }
-  batch->set_ir_noise(RowMatrixXd::Constant(kRobots, 8, 0.5),
-                      RowMatrixXd::Constant(kRobots, 8, 0.002),
-                      RowMatrixXd::Constant(kRobots, 8, 0.001));
-  batch->set_imu_noise(RowMatrixXd::Constant(kRobots, 3, 0.05),
-                       RowMatrixXd::Constant(kRobots, 3, 0.01));
-  batch->set_slip_noise(evc::VectorXd::Constant(kRobots, 0.05));
+  set_every_noise(*batch, kRobots);
   return batch;
 }
 

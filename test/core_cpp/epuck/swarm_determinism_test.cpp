@@ -13,6 +13,7 @@
 #include "epuck_vrep_compat/epuck/epuck_swarm.hpp"
 #include "epuck_vrep_compat/random/rng.hpp"
 #include "epuck_vrep_compat/world/collision_world.hpp"
+#include "every_noise.hpp"
 
 namespace {
 
@@ -43,12 +44,7 @@ class NoisyArena {
     for (int i = 0; i < kRobots; ++i) {
       swarm_.add_robot(100 + i, -0.2 + 0.1 * i, (i % 2 ? -0.02 : 0.02), 0.7 * i);
     }
-    swarm_.set_ir_noise(RowMatrixXd::Constant(kRobots, 8, 0.5),
-                        RowMatrixXd::Constant(kRobots, 8, 0.002),
-                        RowMatrixXd::Constant(kRobots, 8, 0.001));
-    swarm_.set_imu_noise(RowMatrixXd::Constant(kRobots, 3, 0.05),
-                         RowMatrixXd::Constant(kRobots, 3, 0.01));
-    swarm_.set_slip_noise(evc::VectorXd::Constant(kRobots, 0.05));
+    set_every_noise(swarm_, kRobots);
   }
 
   /// @p steps steps with wheel commands uniform in [-7, 7] rad/s from one seeded stream, the
