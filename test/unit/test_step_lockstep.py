@@ -112,3 +112,29 @@ def test_locksteps_waits_for_every_face_and_is_none_without_one():
     waiter.join(60.0)
     assert not waiter.is_alive()
     assert scale.missing() == [] and cmd.missing() == []
+
+
+def test_settle_waits_for_the_last_steps_answer_still_on_its_way():
+    ls = StepLockstep(lambda: ROBOTS, 5.0, "speed scale", handshake=True)
+    ls.settle()                                     # nothing published: nothing owed
+    for robot in ROBOTS:
+        ls.answered(robot)                          # the handshake
+    ls.stepped()
+    ls.answered("ePuck0")
+    late = threading.Timer(0.05, ls.answered, ("ePuck1",))
+    late.start()
+    ls.settle()                                     # returns once ePuck1's answer is in
+    assert ls.missing() == []
+    late.join()
+    ls.restart()                                    # so it answers no step of the next run
+    assert ls.missing() == [("ePuck0", 0), ("ePuck1", 0)]
+
+
+def test_settle_gives_up_after_the_time_out_and_marks_nobody_lost():
+    ls = lockstep(timeout_s=0.01)
+    ls.stepped()
+    ls.answered("ePuck0")
+    ls.settle()                                     # ePuck1 never answers
+    assert ls.missing() == [("ePuck1", 0)] and ls.late_steps == 0
+    both = Locksteps([ls, lockstep(timeout_s=0.01)])
+    both.settle()

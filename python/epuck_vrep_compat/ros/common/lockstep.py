@@ -63,6 +63,24 @@ class StepLockstep:
             self._count, self._needed, self._lost = {}, {}, set()
             self.late_steps = 0
 
+    def settle(self):
+        """Until every watched robot (not lost) has answered every step published, at most
+        ``timeout_s`` of wall time, with a warning then (before a rewind: an answer to the last
+        step still on its way would otherwise count against the next run's first step)."""
+        deadline = time.monotonic() + self.timeout_s
+        with self._cond:
+            while not rospy.is_shutdown() and not self.stop_requested():
+                owed = sorted(r for r, n in self._needed.items()
+                              if r not in self._lost and self._count.get(r, 0) < n)
+                left = deadline - time.monotonic()
+                if not owed:
+                    return
+                if left <= 0.0:
+                    rospy.logwarn("lockstep: the last step's %s of %s did not come within %g s",
+                                  self.what, ", ".join(owed), self.timeout_s)
+                    return
+                self._cond.wait(min(left, POLL_S))
+
     def answered(self, robot: str):
         """An answer of ``robot`` arrived and took effect (the face's subscriber thread)."""
         with self._cond:
@@ -155,6 +173,10 @@ class Locksteps:
     def restart(self):
         for ls in self._all:
             ls.restart()
+
+    def settle(self):
+        for ls in self._all:
+            ls.settle()
 
     def wait(self):
         for ls in self._all:

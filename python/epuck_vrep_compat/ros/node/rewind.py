@@ -6,9 +6,10 @@ Paused at time 0 (frame 0: ``/clock`` goes back, unlike a stop or ``~reset``, so
 clients that start again with it), every extension reset as a stop does, the noise streams
 seeded from the new seed by name as the builder seeds them, the operator walking the walk of
 the new walk seed (``~operator_walk_seed``'s), the lock-step's counts and the safety topics as
-built. Refused (``success`` false, why in ``message``, nothing changed): a negative seed, a walk
-seed without a cell operator, a new seed with the e-puck2's sensors (their streams are not
-reseeded). Call it while no step is under way: paused, or synchronous with no trigger pending.
+built (once the answers to the last step have come, or the lock-step's time-out has passed:
+one still on its way would count against the next run). Refused (``success`` false, why in
+``message``, nothing changed): a negative seed, a walk seed without a cell operator, a new
+seed with the e-puck2's sensors (their streams are not reseeded). Call it while no step is under way: paused, or synchronous with no trigger pending.
 """
 import rospy
 
@@ -36,6 +37,8 @@ class RewindService:
             rospy.logwarn("rewind refused: %s", refusal)
             return RewindResponse(False, refusal)
         walk_seed = req.operator_walk_seed if req.operator_walk_seed >= 0 else None
+        if self._lockstep is not None:
+            self._lockstep.settle()     # the last step's answers in before the counts restart
         with self._sim.lock:
             try:
                 rewind_simulation(self._sim, req.seed, walk_seed)
