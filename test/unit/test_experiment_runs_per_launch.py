@@ -12,7 +12,7 @@ import pytest
 import yaml
 
 from epuck_vrep_compat.experiment import (
-    flatten, launch_files, plan, probe, probe_walks, runner_chunk, spec)
+    engine, flatten, launch_files, plan, probe, probe_walks, runner_chunk, spec)
 from epuck_vrep_compat.experiment.spec_checks import Lines, SpecError
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -85,6 +85,37 @@ def test_runs_done_already_leave_the_rest_chunked_and_retries_stay_apart():
     assert [[t.seed for t in c] for c in plan.chunks(s, tasks)] == [[0, 2, 3]]
     retried = [tasks[0], tasks[1].with_attempt(2), tasks[2]]
     assert [[t.seed for t in c] for c in plan.chunks(s, retried)] == [[0], [2], [3]]
+
+
+class _Store:
+    """What ``engine.launches`` reads of a result store: its folder and the keys done."""
+
+    def __init__(self, out_dir, done=()):
+        self.out_dir, self.done = out_dir, set(done)
+
+
+def test_jobs_on_one_cluster_run_a_shared_run_once_and_the_longest_launches_first():
+    every = spec_with(code=NODES_ONLY, seeds=3, runs_per_launch={
+        "runs": 3, "alone": [{"sim.noise_preset": "vrep", "wander.speed": 0.08}]})
+    first_cell = {"list": [{"sim.noise_preset": "real_robot", "wander.speed": 0.04}]}
+    headline = dict(every, seeds=list(range(6)), vary=first_cell)
+    other = dict(every, duration_s=50)                 # another experiment, its own folder
+    done = plan.tasks(headline)[5].key                 # resumed: the headline's seed 5 is done
+    todo, total, already = engine.launches(
+        [(headline, _Store("walks", [done])), (every, _Store("walks", [done])),
+         (dict(other, vary=first_cell, seeds=[0]), _Store("other"))], "marker")
+    shape = [(store.out_dir, len(chunk) * (50 if store.out_dir == "other" else 30),
+              [t.seed for t in chunk]) for chunk, store in todo]
+    # headline 6 + every 12, less the 3 seeds they share, + 1 other; seed 5 done
+    assert (total, already) == (16, 1)
+    # the headline's first launch, every's two other cells of three, the headline's rest, the
+    # other experiment's run, every's alone cell, one to a launch
+    assert [cost for _, cost, _ in shape] == [90, 90, 90, 60, 50, 30, 30, 30]
+    assert shape[0] == ("walks", 90, [0, 1, 2]) and shape[3:5] == [
+        ("walks", 60, [3, 4]), ("other", 50, [0])]
+    assert shape[-3:] == [("walks", 30, [s]) for s in range(3)]
+    keys = [(store.out_dir, t.key) for chunk, store in todo for t in chunk]
+    assert len(keys) == len(set(keys)) == 15 and ("walks", done) not in keys
 
 
 def test_runs_with_a_bag_are_one_to_a_launch():

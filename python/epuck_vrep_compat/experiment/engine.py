@@ -9,12 +9,20 @@ dies mid-run has its run rescheduled by Dask (its shepherd sees the worker gone 
 run's processes); a run that fails (crashed code, time-out, nothing published) is retried once
 and then recorded as failed; neither stops the experiment. Ctrl-C ends the experiment: the
 cluster is closed and every process marked with the experiment's marker is ended.
+
+Several experiments can share one cluster (:func:`run_all`, the safety benchmark's walks and
+coverage runs): their launches are submitted together, the longest first (simulated time to
+run), so that no worker waits for the last long launch of one experiment before the next
+begins, and the short ones fill the end. The local cluster's own housekeeping is slowed to what
+runs of seconds need (:data:`LOCAL_CLUSTER_CONFIG`: about 7 % of a core less for four idle
+workers, measured in docs/safety_benchmark.md).
 """
 import os
 import sys
 import time
 import uuid
 
+import dask
 from dask.distributed import Client, LocalCluster, as_completed
 
 from epuck_vrep_compat.experiment import isolation, plan
@@ -57,11 +65,25 @@ class Progress:
             self.bar.close()
 
 
+# Dask's defaults suit tasks of milliseconds; a task here is a launch of seconds to minutes:
+# no statistical profiler sampling every worker every 10 ms (a dashboard's view, and there is
+# no dashboard), the event loop's health checked each second rather than every 20 ms, the
+# process's resources and a worker's memory each second or two rather than 10 times a second.
+LOCAL_CLUSTER_CONFIG = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.admin.system-monitor.gil.enabled": False,
+    "distributed.worker.memory.monitor-interval": "1s",
+}
+
+
 def make_client(scheduler=None, workers=None):
     """(client, cluster or None): the given scheduler's, or a local cluster of ``workers``
-    processes (default: one per core)."""
+    processes (default: one per core), with :data:`LOCAL_CLUSTER_CONFIG`."""
     if scheduler:
         return Client(scheduler), None
+    dask.config.set(LOCAL_CLUSTER_CONFIG)       # read by the scheduler here and each worker
     cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
                            processes=True, dashboard_address=None, host="127.0.0.1")
     return Client(cluster), cluster
@@ -70,31 +92,54 @@ def make_client(scheduler=None, workers=None):
 def run(spec, store, scheduler=None, workers=None, stream=sys.stderr):
     """Runs every run of ``spec`` not yet in ``store``; returns (ok, failed) counts of this
     call. Rows reach ``store`` as they finish."""
-    store.save_spec(spec)
+    return run_all([(spec, store)], scheduler, workers, stream)
+
+
+def launches(jobs, marker):
+    """The launches of ``jobs`` ((spec, store) pairs) still to run, as (chunk, store), longest
+    first (a stable order: the specs' own among equals), and (total, already done) run counts.
+    A run two jobs share (the same key into the same store) is run once."""
+    out, seen, total = [], set(), 0
+    for spec, store in jobs:
+        done = store.done
+        every = [t for t in plan.tasks(spec, marker) if (store.out_dir, t.key) not in seen]
+        seen.update((store.out_dir, t.key) for t in every)
+        total += len(every)
+        tasks = [t for t in every if t.key not in done]
+        out += [(chunk, store, len(chunk) * float(spec.get("duration_s") or 1.0))
+                for chunk in plan.chunks(spec, tasks)]
+    out.sort(key=lambda launch: -launch[2])
+    todo = [(chunk, store) for chunk, store, _ in out]
+    return todo, total, total - sum(len(chunk) for chunk, _ in todo)
+
+
+def run_all(jobs, scheduler=None, workers=None, stream=sys.stderr):
+    """:func:`run` for several (spec, store) jobs on one cluster (see the module); returns
+    (ok, failed) counts of this call."""
+    for spec, store in jobs:
+        store.save_spec(spec)
     marker = uuid.uuid4().hex
-    every = plan.tasks(spec, marker)
-    tasks = [t for t in every if t.key not in store.done]
-    total = len(every)
-    progress = Progress(total, total - len(tasks), stream)
-    if not tasks:
+    todo, total, already = launches(jobs, marker)
+    progress = Progress(total, already, stream)
+    if not todo:
         progress.close()
         return 0, 0
     client, cluster = make_client(scheduler, workers)
     ok = failed = 0
     futures, pending = as_completed(), {}
 
-    def submit(chunk):              # one launch: one run, or several of a cell (runs_per_launch)
+    def submit(chunk, store):       # one launch: one run, or several of a cell (runs_per_launch)
         key = f"run-{chunk[0].key}-{chunk[0].attempt}" + (f"-{len(chunk)}" if chunk[1:] else "")
-        pending[key] = chunk
+        pending[key] = (chunk, store)
         futures.add(client.submit(execute_chunk, chunk, pure=False, key=key))
     try:
-        for chunk in plan.chunks(spec, tasks):
-            submit(chunk)
+        for chunk, store in todo:
+            submit(chunk, store)
         for future in futures:
-            chunk = pending.pop(future.key)
+            chunk, store = pending.pop(future.key)
             for task, row in zip(chunk, _rows_of(future, chunk)):
                 if row["status"] != "ok" and task.attempt < MAX_ATTEMPTS:
-                    submit([task.with_attempt(task.attempt + 1)])      # again, alone
+                    submit([task.with_attempt(task.attempt + 1)], store)      # again, alone
                     continue
                 store.add(row)
                 progress.update(row)

@@ -4,8 +4,9 @@ experiment runner.
 
 ``run [--out DIR] [--walks N] [--cell-walks M] [--workers K] [--scheduler ADDR]
 [--no-coverage]``: our supervisor at its defaults without a fault (the spec's first cell) over
-the first N seeds (walks), then every monitor x fault cell over the first M, the coverage maps
-(``experiments/safety_ssm/coverage.yaml``) unless ``--no-coverage``, then ``DIR/report.md``.
+the first N seeds (walks), every monitor x fault cell over the first M, the coverage maps
+(``experiments/safety_ssm/coverage.yaml``) unless ``--no-coverage``, all on one cluster (the
+longest launches first: ``engine.run_all``), then ``DIR/report.md``.
 The runs' results are in ``DIR/walks`` and ``DIR/coverage`` (experiment folders: the same
 command resumes). ``report DIR`` rebuilds the report; ``coverage DIR`` makes only the maps.
 Exit status as ``experiment``'s: 0 all ok, 1 some runs failed, 2 unusable, 130 interrupted.
@@ -24,6 +25,7 @@ from epuck_vrep_compat.experiment import spec as spec_mod
 from epuck_vrep_compat.experiment.cli import write_report
 
 WALKS, CELL_WALKS = 200, 5
+WORKERS_PER_CORE = 2        # the lock-step's round trips leave a walk about half a core
 
 
 def shipped(name):
@@ -44,7 +46,9 @@ def parse(argv):
                      help=f"walks of the spec's first cell (default {WALKS})")
     run.add_argument("--cell-walks", type=int, default=CELL_WALKS,
                      help=f"walks of every other cell (default {CELL_WALKS})")
-    run.add_argument("--workers", type=int)
+    run.add_argument("--workers", type=int,
+                     help="local worker processes (default: two per core: a walk in lock-step "
+                          "keeps about half a core busy)")
     run.add_argument("--scheduler")
     run.add_argument("--no-coverage", action="store_true")
     for name in ("report", "coverage"):
@@ -56,17 +60,22 @@ def parse(argv):
     return args
 
 
-def run_spec(spec, out_dir, args, bag_dir=None):
-    """Runs a loaded spec into ``out_dir`` (its generic report too); True when all ok."""
-    if bag_dir:
-        spec["bag_dir"] = bag_dir
-    store = results.ResultStore(out_dir)
-    engine.run(spec, store, args.scheduler, args.workers)
-    write_report(store, spec)
-    return all(r["status"] == "ok" for r in store.rows)
+def run_specs(jobs, args):
+    """Runs loaded specs, each into its folder ((spec, folder) pairs), on one cluster (their
+    launches together, the longest first), then each folder's generic report; True when every
+    run is ok."""
+    stores = [(spec, results.ResultStore(folder)) for spec, folder in jobs]
+    workers = args.workers or (None if args.scheduler
+                               else WORKERS_PER_CORE * (os.cpu_count() or 1))
+    engine.run_all(stores, args.scheduler, workers)
+    for spec, store in stores:
+        write_report(store, spec)
+    return all(r["status"] == "ok" for _, store in stores for r in store.rows)
 
 
-def walks(args):
+def walk_specs(args):
+    """The walks' specs (the first cell over ``--walks`` seeds, every cell over
+    ``--cell-walks``), each with its folder: both ``DIR/walks``."""
     spec = spec_mod.load(args.spec)
     seeds = spec["seeds"]
     if len(seeds) < max(args.walks, args.cell_walks):
@@ -74,19 +83,20 @@ def walks(args):
         seeds = list(range(first, first + max(args.walks, args.cell_walks)))
     headline = dict(spec, seeds=seeds[:args.walks],
                     vary={"list": plan.cells(spec["vary"])[:1]})
-    first = run_spec(headline, os.path.join(args.out, "walks"), args)
-    every = run_spec(dict(spec, seeds=seeds[:args.cell_walks]), os.path.join(args.out, "walks"),
-                     args)
-    return first and every
+    folder = os.path.join(args.out, "walks")
+    return [(headline, folder), (dict(spec, seeds=seeds[:args.cell_walks]), folder)]
+
+
+def coverage_spec(out_dir):
+    """The coverage runs' spec (bags in ``out_dir/coverage/bags``) and its folder."""
+    folder = os.path.join(out_dir, "coverage")
+    return dict(spec_mod.load(COVERAGE_SPEC()), bag_dir=os.path.join(folder, "bags")), folder
 
 
 def coverage(out_dir, args=None):
-    """The coverage runs (bags in ``out_dir/coverage/bags``) and a PNG per layout; returns
-    (all ok, the PNGs' paths)."""
+    """The coverage runs alone and a PNG per layout; returns (all ok, the PNGs' paths)."""
     args = args or argparse.Namespace(scheduler=None, workers=None)
-    spec = spec_mod.load(COVERAGE_SPEC())
-    folder = os.path.join(out_dir, "coverage")
-    ok = run_spec(spec, folder, args, bag_dir=os.path.join(folder, "bags"))
+    ok = run_specs([coverage_spec(out_dir)], args)
     return ok, draw_maps(out_dir)
 
 
@@ -147,9 +157,10 @@ def main(argv=None):
             print(f"safety_bench: {', '.join(maps) or 'no map'}")
             return 0 if ok else 1
         started = time.monotonic()
-        ok = walks(args)
+        jobs = walk_specs(args) + ([] if args.no_coverage else [coverage_spec(args.out)])
+        ok = run_specs(jobs, args)
         if not args.no_coverage:
-            ok = coverage(args.out, args)[0] and ok
+            draw_maps(args.out)
         add_timing(args.out, time.monotonic() - started, args.walks, args.cell_walks)
         print(f"safety_bench: {write(args.out)}")
         return 0 if ok else 1
