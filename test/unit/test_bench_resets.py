@@ -2,6 +2,8 @@
 master, rospy's parts stand-ins from :mod:`fake_ros`): each used for a walk and reset answers
 the next walk as a node launched again; the fault refuses once it has done what a reset
 cannot undo; and the order the probe resets a launch's nodes in (consumers first)."""
+import threading
+import time
 import types
 
 import pytest
@@ -12,7 +14,7 @@ from sensor_msgs.msg import JointState
 
 import fake_ros
 from fake_ros import bench_script
-from epuck_vrep_compat.experiment.probe_walks import reset_order
+from epuck_vrep_compat.experiment.probe_walks import ChunkError, reset_node, reset_order
 from epuck_vrep_compat.nodes.node_reset import ResetRefused
 
 # rospy's own time setter, which the resets call, uses a deprecated threading name
@@ -134,3 +136,23 @@ def test_a_launchs_nodes_are_reset_consumers_first():
     assert reset_order(["/a", "/b"], ([("/x", ["/a"]), ("/y", ["/b"])],
                                       [("/x", ["/b"]), ("/y", ["/a"])], [])) == ["/a", "/b"]
     assert reset_order([], BENCH) == []
+
+
+def test_a_reset_that_hangs_fails_the_chunk_at_the_deadline_and_a_refusal_says_why(monkeypatch):
+    release = threading.Event()
+
+    def hung(*_a, **_k):
+        release.wait(10.0)              # a node that never answers (released after the test)
+        return types.SimpleNamespace(success=True, message="")
+    monkeypatch.setattr(rospy, "ServiceProxy", lambda *_a, **_k: hung)
+    with pytest.raises(ChunkError, match="did not answer in time"):
+        reset_node("/stuck", deadline=time.monotonic() + 0.2)
+    release.set()
+    refused = types.SimpleNamespace(success=False, message="a camera was removed")
+    monkeypatch.setattr(rospy, "ServiceProxy", lambda *_a, **_k: lambda *_x: refused)
+    with pytest.raises(ChunkError, match="refused its reset: a camera was removed"):
+        reset_node("/fault", deadline=time.monotonic() + 5.0)
+    monkeypatch.setattr(rospy, "ServiceProxy", lambda *_a, **_k: lambda *_x: (
+        _ for _ in ()).throw(rospy.ServiceException("gone")))
+    with pytest.raises(ChunkError, match="failed: gone"):
+        reset_node("/gone")

@@ -18,13 +18,14 @@ as it was at its start, with the next seed:
    roslaunch (the launch marks it ``respawn``, after ``respawn_delay``): a new process is the
    one reset that is exactly a launch's, whatever the node keeps. A node started again must be
    gone before any comes back (else a new one could hear an old one's latched message). A
-   reset refused or failed, a node back too early, or one not back within the start time-out
-   ends the chunk (this walk and the next are then not run, and the runner runs them alone);
+   reset refused, failed or not answered within the start time-out (a hung node), a node back
+   too early, or one not back within the start time-out ends the chunk (this walk and the next are then not run, and the runner runs them alone);
 3. the probe waits for the recorded topics' publishers as at the launch's start, and for as
    many messages on each ``wait_for`` topic as had come when the launch's first walk started
    (the nodes' ready messages), and starts the walk: without ``start_grace_s`` when every node
    was reset in place (a node started again needs it to subscribe).
 """
+import threading
 import time
 import xmlrpc.client
 
@@ -82,7 +83,7 @@ def renew_nodes(deadline):
     resettable = [n for n in nodes if f"{n}/{NODE_RESET_SERVICE}" in services]
     asked = time.monotonic()
     for name in reset_order(resettable, state):
-        reset_node(name)
+        reset_node(name, deadline)
     again = [n for n in nodes if n not in resettable]
     if again:
         restart_nodes(master, again, deadline)
@@ -109,14 +110,26 @@ def reset_order(nodes, state):
     return order
 
 
-def reset_node(name):
-    """``<name>/reset`` called; ChunkError when it fails or is refused."""
-    try:
-        answer = rospy.ServiceProxy(f"{name}/{NODE_RESET_SERVICE}", Trigger)()
-    except (rospy.ServiceException, rospy.ROSException, OSError) as e:
-        raise ChunkError(f"{name}/{NODE_RESET_SERVICE} (std_srvs/Trigger) failed: {e}") from e
-    if not answer.success:
-        raise ChunkError(f"{name} refused its reset: {answer.message}")
+def reset_node(name, deadline=None):
+    """``<name>/reset`` called; ChunkError when it fails, is refused, or has not answered by
+    ``deadline`` (``time.monotonic()``; a hung node's call is left to its daemon thread)."""
+    result = {}
+
+    def call():
+        try:
+            result["answer"] = rospy.ServiceProxy(f"{name}/{NODE_RESET_SERVICE}", Trigger)()
+        except (rospy.ServiceException, rospy.ROSException, OSError) as e:
+            result["error"] = e
+    caller = threading.Thread(target=call, name=f"reset {name}", daemon=True)
+    caller.start()
+    caller.join(None if deadline is None else max(0.0, deadline - time.monotonic()))
+    if caller.is_alive():
+        raise ChunkError(f"{name}/{NODE_RESET_SERVICE} did not answer in time (a hung node)")
+    if "error" in result:
+        raise ChunkError(f"{name}/{NODE_RESET_SERVICE} (std_srvs/Trigger) failed: "
+                         f"{result['error']}") from result["error"]
+    if not result["answer"].success:
+        raise ChunkError(f"{name} refused its reset: {result['answer'].message}")
 
 
 def restart_nodes(master, names, deadline):
