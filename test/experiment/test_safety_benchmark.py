@@ -10,6 +10,7 @@ import re
 import yaml
 
 import evc_harness as h
+from epuck_vrep_compat.experiment import coverage_maps
 
 EXPERIMENTS = os.path.join(h.REPO, "experiments")
 
@@ -167,3 +168,9 @@ def test_coverage_maps_of_both_layouts(tmp_path):
     error = {os.path.basename(r["param.sim.world"]).split("_")[0]: r["metric.tracker_error_mean_m"]
              for r in rows}
     assert 0.0 < error["alternative"] < error["thesis"], error
+    # each bag holds the walk from its first step to its last (the probe starts the run once
+    # rosbag record has subscribed): what the maps are drawn from does not depend on timing
+    for row in rows:
+        x, _, _, _ = coverage_maps.read_bag(
+            str(tmp_path / "out" / "coverage" / "bags" / f"{row['run_key']}.bag"))
+        assert len(x) == 1400, len(x)          # coverage.yaml's 70 s, in steps of 50 ms

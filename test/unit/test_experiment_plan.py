@@ -229,11 +229,26 @@ def test_a_bag_records_exactly_the_recorded_topics(task):
                            "/ePuck0/ground_truth_x", "/ground_truth", "/a/cmd_vel/b")
                if pattern.fullmatch(t)]
     assert matched == ["/ePuck0/ground_truth", "/ePuck12/cmd_vel"]
+    # rosbag looks for the topics of a pattern on a timer of ROS time: the probe cannot wait
+    assert "recorder" not in probe_settings(task)
+
+
+def test_a_bag_of_named_topics_subscribes_at_once_and_the_probe_waits_for_it(task):
+    task.record = ["/ePuck0/ground_truth", "/ePuck0/cmd_vel"]
+    [bag] = bag_nodes(task)
+    assert shlex.split(bag.get("args"))[2:] == task.record
+    assert probe_settings(task)["recorder"] == "/" + bag.get("name")
+
+
+def probe_settings(task):
+    [probe] = [n for n in launch_xml(task).findall("node") if n.get("name") == "experiment_probe"]
+    return yaml.safe_load(probe.find("rosparam").text)
 
 
 def test_no_bag_without_a_bag_folder(task):
     task.bag_dir = None
     assert bag_nodes(task) == []
+    assert "recorder" not in probe_settings(task)
 
 
 # --- finding launch files and nodes ----------------------------------------------------------

@@ -15,6 +15,7 @@ import rospkg
 import yaml
 
 PROBE = ("epuck_vrep_compat", "experiment_probe")
+BAG_NODE = "/experiment_bag"     # rosbag record of a run with a bag (``bag_dir``)
 # several runs per launch: the user's nodes come back this long after they end [s of wall
 # time], time for every other node of the launch to have ended first (probe_walks)
 RESPAWN_DELAY_S = 1.0
@@ -164,13 +165,24 @@ def _node(entry, respawn=False):
     return out
 
 
+def _literal_topics(run):
+    """The recorded topics when every pattern names one topic (no glob), else None."""
+    return None if any(c in p for p in run.record for c in "*?[") else list(run.record)
+
+
 def _bag(run):
-    """rosbag record of the recorded topics into the run's folder (copied out by the runner)."""
-    pattern = "|".join(fnmatch.translate(p).replace("\\Z", "$").replace("(?s:", "(?:")
-                       for p in run.record)
+    """rosbag record of the recorded topics into the run's folder (copied out by the runner):
+    by name when every pattern names one topic, so that it subscribes as it starts; else by a
+    regular expression, whose topics rosbag looks for once a second of ROS time, which the
+    paused simulation does not advance: it joins a step or a few after the start."""
     bag = os.path.join(os.path.dirname(run.recording_path), "run.bag")
-    return [f'  <node pkg="rosbag" type="record" name="experiment_bag" output="log" '
-            f'args={quoteattr(f"-O {shlex.quote(bag)} -e {shlex.quote(pattern)}")}/>']
+    topics = _literal_topics(run)
+    if topics is None:
+        topics = ["-e", "|".join(fnmatch.translate(p).replace("\\Z", "$").replace("(?s:", "(?:")
+                                 for p in run.record)]
+    args = " ".join(shlex.quote(a) for a in ["-O", bag] + topics)
+    return [f'  <node pkg="rosbag" type="record" name="{BAG_NODE[1:]}" output="log" '
+            f'args={quoteattr(args)}/>']
 
 
 def _probe(run):
@@ -178,6 +190,8 @@ def _probe(run):
                 "topics": run.record, "pace": run.pace}
     if run.walks:
         settings["walks"] = run.walks
+    if run.bag_dir and _literal_topics(run) is not None:
+        settings["recorder"] = BAG_NODE         # the probe waits for the bag's subscriptions
     return [f'  <node pkg="{PROBE[0]}" type="{PROBE[1]}" name="experiment_probe" '
             'required="true" output="log">',
             f"    <rosparam>{_yaml(settings)}</rosparam>", "  </node>"]

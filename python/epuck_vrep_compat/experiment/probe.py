@@ -1,8 +1,8 @@
 """The ``experiment_probe`` node: starts a run, records it, and ends it.
 
 Started (paused) by the run's launch file beside the simulator and the user's code. It waits
-for the simulator's ``/vrep/unpause`` service and for a publisher on every topic it records,
-gives the user's nodes ``start_grace_s`` to subscribe (not between the walks of one launch
+for the simulator's ``/vrep/unpause`` service and for a publisher on every topic it records
+(in a run with a bag, for ``rosbag record`` to subscribe to each too: ``~recorder``), gives the user's nodes ``start_grace_s`` to subscribe (not between the walks of one launch
 when every node was reset in place: :mod:`probe_walks`), then starts the simulation: ``free``,
 at whatever real-time factor the simulator was given (the runner gives ``rtf:=0``), or
 ``lockstep``, V-REP's synchronous mode: one step, then wait until every ``wait_for`` topic
@@ -49,6 +49,7 @@ class Probe:
         self.duration_s = float(settings["duration_s"])
         self.out = settings["out"]
         self.patterns = list(settings.get("topics", []))
+        self.recorder = settings.get("recorder", "")     # a run with a bag: rosbag's node
         self.pace = settings.get("pace", {"mode": "free"})
         self.lock = threading.Condition()
         self.clock = 0.0
@@ -112,6 +113,21 @@ class Probe:
             if time.monotonic() > deadline:
                 raise RuntimeError("could not connect to every recorded topic")
             time.sleep(0.02)
+        if self.recorder:
+            self._await_recorder(master, deadline)
+
+    def _await_recorder(self, master, deadline):
+        """A run with a bag: until ``rosbag record`` (which looks for the topics matching its
+        pattern about once a second) has subscribed to every recorded topic, so that the bag
+        holds the run from its first step; the start grace then gives it time to connect."""
+        while True:
+            subscribed = {t for t, names in master.getSystemState()[1] if self.recorder in names}
+            missing = sorted(set(self.columns) - subscribed)
+            if not missing:
+                return
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"{self.recorder} did not subscribe to {missing}")
+            time.sleep(0.05)
 
     def restart(self, out):
         """As at the start, recording to ``out`` (a walk after the first: :mod:`probe_walks`)."""
@@ -223,7 +239,8 @@ class Probe:
 def main():
     rospy.init_node("experiment_probe")
     settings = {k: rospy.get_param("~" + k) for k in ("duration_s", "out", "topics", "pace",
-                                                      "walks") if rospy.has_param("~" + k)}
+                                                      "walks", "recorder")
+                if rospy.has_param("~" + k)}
     if "duration_s" not in settings or "out" not in settings:
         rospy.logfatal("experiment_probe needs ~duration_s and ~out")
         return 2
