@@ -54,6 +54,8 @@ CLIENTS_MAY_IMPORT = PURE + ("msg", "srv") + CLIENTS       # (between clients, a
 CLIENT_EXCEPTIONS = {                   # module: why a client may import it
     f"{PKG}.ros.common.log": "the one throttled log, shared with the simulator node; rospy only",
     f"{PKG}.ros.common.params": "the one ParamError and parameter validators; rospy only",
+    f"{PKG}.ros.common.late_steps": "each node's steps taken without waiting, for the "
+                                    "experiment's row; shared with the simulator; rospy only",
 }
 
 

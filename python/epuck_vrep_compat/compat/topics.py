@@ -41,3 +41,5 @@ KINECT_DEPTH_IMAGE_TOPIC = "/kinect/depth/image"
 # What ssm_supervisor publishes per robot (std_msgs/Float64 unless said): separation,
 # protective_separation, scale, operator_uncertainty, protective_stop (Bool), status (String).
 SSM_TOPIC_FORMAT = "/ssm_supervisor/{robot}/{what}"
+# each node's steps taken without something it waits for in lock-step (ros/common/late_steps.py)
+LATE_STEPS_PARAM = "/experiment/late_steps"

@@ -2,11 +2,13 @@
 
 Started (paused) by the run's launch file beside the simulator and the user's code. It waits
 for the simulator's ``/vrep/unpause`` service and for a publisher on every topic it records
-(in a run with a bag, for ``rosbag record`` to subscribe to each too: ``~recorder``), gives the user's nodes ``start_grace_s`` to subscribe (not between the walks of one launch
-when every node was reset in place: :mod:`probe_walks`), then starts the simulation: ``free``,
+(in a run with a bag, for ``rosbag record`` to subscribe to each too: ``~recorder``), gives
+the user's nodes ``start_grace_s`` to subscribe (not between the walks of one launch when
+every node was reset in place: :mod:`probe_walks`), then starts the simulation: ``free``,
 at whatever real-time factor the simulator was given (the runner gives ``rtf:=0``), or
 ``lockstep``, V-REP's synchronous mode: one step, then wait until every ``wait_for`` topic
-has published once (or ``step_timeout_s`` of wall time passed: a late step, counted; with
+has published once (or ``step_timeout_s`` of wall time passed: a late step, counted, and
+added to the steps other nodes took without waiting, ``ros/common/late_steps.py``; with
 ``skip_gone``, a topic whose publishers have all gone is not waited for). In lock-step an
 answer is a message that came after the step's trigger (a latched one sent before the start
 answers no step), and a message without a stamp is recorded at the time of the step during
@@ -36,6 +38,7 @@ from std_srvs.srv import Empty
 
 from epuck_vrep_compat.compat.topics import NODE_NAMESPACE, UNPAUSE_SERVICE
 from epuck_vrep_compat.experiment import flatten, metrics, probe_walks
+from epuck_vrep_compat.ros.common.late_steps import total as nodes_late_steps
 
 START_TIMEOUT_S = 60.0
 GONE_POLL_S = 0.05     # how often a step's wait looks for wait_for topics left silent
@@ -55,7 +58,8 @@ class Probe:
         self.clock = 0.0
         self.columns = {}                # topic -> flatten.Columns
         self.counts = {}                 # wait_for's topics -> messages received
-        self.late_steps = 0
+        self.late_steps = 0              # steps the probe took without an answer
+        self.late_before = 0             # every node's late steps when the run started
         self.triggered = self.clocks = 0         # lock-step: steps triggered, their /clock seen
         self.times = {"probe": time.time()}       # wall clock of each phase, for the row
         self.subs = []
@@ -162,6 +166,7 @@ class Probe:
         with self.lock:
             if self.ready_counts is None:
                 self.ready_counts = dict(self.counts)
+        self.late_before = nodes_late_steps()       # the other nodes' count as the run starts
         if self.pace["mode"] == "lockstep":
             from vrep_common.srv import simRosSynchronous
             rospy.ServiceProxy(NODE_NAMESPACE + "simRosSynchronous", simRosSynchronous)(enable=1)
@@ -230,7 +235,8 @@ class Probe:
         self.times["done"] = time.time()
         info = {"status": status, "message": message, "sim_time_s": clock,
                 "times": self.times,
-                "late_steps": self.late_steps, "world": world,
+                "late_steps": self.late_steps + nodes_late_steps() - self.late_before,
+                "world": world,
                 "messages": {t: int(s.t.size) for t, s in recording.items()}}
         with open(os.path.splitext(self.out)[0] + ".status.json", "w") as f:
             json.dump(info, f)

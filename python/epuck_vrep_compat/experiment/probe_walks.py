@@ -19,7 +19,8 @@ as it was at its start, with the next seed:
    one reset that is exactly a launch's, whatever the node keeps. A node started again must be
    gone before any comes back (else a new one could hear an old one's latched message). A
    reset refused, failed or not answered within the start time-out (a hung node), a node back
-   too early, or one not back within the start time-out ends the chunk (this walk and the next are then not run, and the runner runs them alone);
+   too early, or one not back within the start time-out ends the chunk (this walk and the
+   next are then not run, and the runner runs them alone);
 3. the probe waits for the recorded topics' publishers as at the launch's start, and for as
    many messages on each ``wait_for`` topic as had come when the launch's first walk started
    (the nodes' ready messages), and starts the walk: without ``start_grace_s`` when every node

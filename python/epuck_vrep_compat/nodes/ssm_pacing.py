@@ -24,6 +24,9 @@ import tf2_ros
 
 from epuck_vrep_compat.compat.frames import WORLD_FRAME
 from epuck_vrep_compat.nodes.step_inputs import INPUT_TIMEOUT_S
+from epuck_vrep_compat.ros.common.late_steps import LateSteps
+
+LATE = LateSteps()      # inputs given up (a frame, an estimate): the experiment's late steps
 
 
 class StepPacer:
@@ -89,6 +92,7 @@ class StepPacer:
             if root is not None and not self.tf_listener.wait_transform(WORLD_FRAME, root, now):
                 rospy.logwarn("ssm_supervisor: no TF of %s at %.3f s within %.1f s", root,
                               now.to_sec(), INPUT_TIMEOUT_S)
+                LATE.add()
 
 
 class OperatorSteps:
@@ -134,6 +138,7 @@ class OperatorSteps:
                 if left <= 0.0:
                     rospy.logwarn("ssm_supervisor: no operator estimate of step %d within "
                                   "%.1f s", self._taken, INPUT_TIMEOUT_S)
+                    LATE.add()
                     break
                 self._cond.wait(left)
             for n in [n for n in self._received if n < self._taken]:

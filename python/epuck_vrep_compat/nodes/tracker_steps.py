@@ -18,7 +18,8 @@ At each new ``/clock`` time t (:class:`step_inputs.StepClock`), the step's input
 An input whose sensor ``/vrep`` no longer has (the laser removed at an earlier step; asked by
 the name its messages carry as their frame, only when the step's message has not come yet) or
 whose publisher has gone is not waited for; one that does not come within
-:data:`step_inputs.INPUT_TIMEOUT_S` of wall time is given up, with a warning. The
+:data:`step_inputs.INPUT_TIMEOUT_S` of wall time is given up, with a warning, and counted in
+the experiment's late steps (``ros/common/late_steps.py``). The
 estimate, stamped t, goes out for every step, a position of NaN while there is no track: a
 reader in lock-step (the supervisor's ``~lockstep_operator``) takes the n-th message as the n-th
 step's. Before the first step, once its inputs are connected, the tracker sends a latched
@@ -31,6 +32,7 @@ from vrep_common.srv import simRosGetFloatSignal, simRosGetObjectHandle
 
 from epuck_vrep_compat.compat.topics import BLOB_TOPIC_FORMAT, NODE_NAMESPACE
 from epuck_vrep_compat.nodes.step_inputs import StepClock, due
+from epuck_vrep_compat.ros.common.late_steps import LateSteps
 
 SIGNAL_SERVICE = NODE_NAMESPACE + "simRosGetFloatSignal"
 HANDLE_SERVICE = NODE_NAMESPACE + "simRosGetObjectHandle"
@@ -52,6 +54,7 @@ class TrackerSteps:
         self.get_handle = rospy.ServiceProxy(HANDLE_SERVICE, simRosGetObjectHandle,
                                              persistent=True)
         self.gone = set()                   # sensors /vrep no longer has
+        self.late = LateSteps()             # inputs given up: for the experiment's row
         self.clock = StepClock(self.step)
         self.handshake()
 
@@ -85,6 +88,7 @@ class TrackerSteps:
                     and sub.get_num_connections() > 0):
                 self.tracker.log.warn(f"late:{what}", "operator_tracker: no %s of the step at "
                                       "%.3f s; estimating without it", what, t)
+                self.late.add()
         self.read_blobs(t)
         if not self.tracker.cycle(now=stamp):
             self.tracker.publish(stamp)

@@ -16,6 +16,7 @@ from epuck_vrep_compat.ros.common.lockstep import StepLockstep
 class ScaleLockstep(StepLockstep):
     """Matches each watched robot's speed scales to the steps they answer, and waits for them."""
 
-    def __init__(self, robots, timeout_s: float):
-        """``robots``: a callable giving the watched robots' names now."""
-        super().__init__(robots, timeout_s, "speed scale", handshake=True)
+    def __init__(self, robots, timeout_s: float, connected=None):
+        """``robots``: a callable giving the watched robots' names now; ``connected``: whether
+        a robot's supervisor is still connected."""
+        super().__init__(robots, timeout_s, "speed scale", handshake=True, connected=connected)

@@ -76,7 +76,7 @@ class CellSafety:
             robots = watchdog[1]
             self.lockstep = ScaleLockstep(
                 lambda: [n for n in sim.cell.arm_by_name if robots is None or n in robots],
-                lockstep_timeout_s)
+                lockstep_timeout_s, connected=self._scale_connected)
         self._scales = {}
         self._stops = {}                        # robot -> its safety_stop publisher
         self._stopped = {}                      # robot -> the flag last published
@@ -127,6 +127,10 @@ class CellSafety:
         for publisher in self._stops.values():
             publisher.unregister()
         self._service.shutdown()
+
+    def _scale_connected(self, name):
+        sub = self._scales.get(name)
+        return sub is not None and sub.get_num_connections() > 0
 
     def _on_scale(self, msg, name):
         value = msg.data

@@ -32,6 +32,8 @@ import time
 
 import rospy
 
+from epuck_vrep_compat.ros.common.late_steps import LateSteps
+
 POLL_S = 0.05        # wall seconds between checks of the stop request while waiting
 
 
@@ -39,12 +41,14 @@ class StepLockstep:
     """Matches each watched robot's answers to the steps they answer, and waits for them."""
 
     def __init__(self, robots, timeout_s: float, what: str, handshake: bool = True,
-                 early_answers: bool = False):
+                 early_answers: bool = False, connected=None):
         """``robots``: a callable giving the watched robots' names now; ``what``: the answer's
         name in the log (``speed scale``, ``cmd_vel``); ``handshake``: wait before the first
         step for one answer from each; ``early_answers``: an answer beyond the steps published
-        answers the next step (see the module). :attr:`stop_requested` (a callable; the node's
-        stop request) ends a wait early."""
+        answers the next step (see the module); ``connected``: a callable, whether a robot's
+        client is still connected (default: always), so that a step taken without waiting for
+        a connected one is counted for the experiment (``late_steps.py``).
+        :attr:`stop_requested` (a callable; the node's stop request) ends a wait early."""
         self._robots = robots
         self.timeout_s = float(timeout_s)
         self.what = what
@@ -56,6 +60,10 @@ class StepLockstep:
         self._needed = {}                # robot -> the count that answers the last step
         self._lost = set()               # robots not waited for until they catch up
         self.late_steps = 0
+        # a step taken without waiting for a robot whose client is still connected (a hung or
+        # slow one: the step's outcome then depends on the machine) goes to the experiment
+        self._connected = connected or (lambda _robot: True)
+        self.late = LateSteps()
 
     def restart(self):
         """As built: no answer received, none needed, nobody lost (a rewind)."""
@@ -106,6 +114,8 @@ class StepLockstep:
         with self._cond:
             if self._lost:
                 self.late_steps += 1
+                if any(self._connected(r) for r in self._lost):
+                    self.late.add()
             for robot in self._robots():
                 count = self._count.get(robot, 0)
                 if robot in self._needed:

@@ -113,7 +113,9 @@ class EpuckFace(Face):
             self.lockstep = StepLockstep(
                 lambda: [n for n in self._by_name if any(
                     fnmatch.fnmatchcase(profile.topic(n, "cmd_vel"), p) for p in patterns)],
-                timeout_s, "cmd_vel", handshake=False, early_answers=True)
+                timeout_s, "cmd_vel", handshake=False, early_answers=True,
+                connected=lambda n: n in self._by_name
+                and self._by_name[n].cmd_vel.get_num_connections() > 0)
         self.sync()
 
     def sync(self):
