@@ -4,6 +4,7 @@ answer per robot per step after it, an early answer counted for the next step, a
 waited for again once it has caught up."""
 import threading
 
+from epuck_vrep_compat.ros.common import late_steps
 from epuck_vrep_compat.ros.common.lockstep import Locksteps, StepLockstep
 
 ROBOTS = ["ePuck0", "ePuck1"]
@@ -138,3 +139,24 @@ def test_settle_gives_up_after_the_time_out_and_marks_nobody_lost():
     assert ls.missing() == [("ePuck1", 0)] and ls.late_steps == 0
     both = Locksteps([ls, lockstep(timeout_s=0.01)])
     both.settle()
+
+
+def test_a_step_without_a_connected_robots_answer_is_a_late_step_for_the_experiment():
+    connected = {"ePuck0": True, "ePuck1": False}
+    ls = StepLockstep(lambda: ROBOTS, 0.05, "cmd_vel", handshake=False, early_answers=True,
+                      connected=lambda r: connected[r])
+    ls.stepped()
+    ls.answered("ePuck0")
+    ls.wait()                                       # ePuck1, gone, times out: lost
+    ls.stepped()
+    assert (ls.late_steps, ls.late.count) == (1, 0)     # a dead client: nothing it changed
+    ls.answered("ePuck0")
+    ls.wait()
+    connected["ePuck1"] = True                      # there after all: a hung client
+    ls.stepped()
+    assert (ls.late_steps, ls.late.count) == (2, 1)
+
+
+def test_every_nodes_late_steps_add_up():
+    assert late_steps.total({"vrep": 3, "operator_tracker": 1, "ns": {"truth": 2}}) == 6
+    assert late_steps.total({}) == 0 and late_steps.total("junk") == 0
