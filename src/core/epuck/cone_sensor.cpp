@@ -74,6 +74,20 @@ ConeCandidate cone_candidate(const Body& body) {
                        enclosing_radius(body.primitive)};
 }
 
+double bound_candidate(ConeCandidate& candidate, const Vec3& viewpoint) {
+  const RayTarget target = ray_target(*candidate.body, viewpoint);
+  candidate.away.setZero();
+  candidate.beyond_m = 0.0;
+  if (target.min_distance_m > 0.0) {
+    // ray_target's distance is short of the closest point by more than its rounding; the
+    // plane's offset gives up a little more for the products' rounding (far more than it).
+    candidate.away = to_eigen(target.toward);
+    candidate.beyond_m = viewpoint.dot(candidate.away) + target.min_distance_m -
+                         1e-9 * (1.0 + viewpoint.cwiseAbs().maxCoeff());
+  }
+  return target.min_distance_m;
+}
+
 // What a cone reads with, kept by its reader so that reading a cone allocates nothing.
 struct ConeReader::Scratch {
   std::vector<const Body*> in_cone;
@@ -94,13 +108,19 @@ namespace {
 
 using ConeScratch = ConeReader::Scratch;
 
-// Keeps the candidates whose bounding spheres reach into the cone: most of a robot's
-// neighbours lie beside or behind a given sensor, and a ray test costs more than this check.
-// A sphere of radius R whose centre is d > R away reaches into the cone when the centre is at
-// most h + asin(R / d) off the axis; both angles lie in [0, pi), so in cosines:
+// Keeps the candidates that may reach into the cone: most of a robot's neighbours lie beside
+// or behind a given sensor, and a ray test costs more than these checks.
+// - Its bounding sphere: a sphere of radius R whose centre is d > R away reaches into the cone
+//   when the centre is at most h + asin(R / d) off the axis; both angles lie in [0, pi), so in
+//   cosines:
 //     offset · axis + R sin h >= d cos(h + asin(R / d)) + R sin h = cos h sqrt(d^2 - R^2),
-// compared squared when the left side is positive (it is read with a little slack, so that
-// rounding keeps a body rather than drops it).
+//   compared squared when the left side is positive (it is read with a little slack, so that
+//   rounding keeps a body rather than drops it).
+// - Its half-space {p : p · away >= beyond} (a wall's sphere is large, its half-space is not):
+//   the cone's points within range, s + r u (0 <= r <= range, u at most h off the axis), reach
+//   at most s · away + range max(0, cos(max(0, theta - h))) along away, theta the axis's angle
+//   to away; cos(theta - h) = cos theta cos h + sin theta sin h. (The half-space already gives
+//   up more than the rounding here, see cone_candidate.)
 void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
                   const ConeSensor& sensor, ConeScratch& scratch) {
   const Vec3 axis = sensor_pose.orientation * Vec3::UnitX();
@@ -114,6 +134,16 @@ void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sens
     const double lhs = offset.dot(axis) + scratch.sin_h * radius + 1e-12 * reach;
     const double inside = squared - radius * radius;  // d^2 - R^2
     if (inside > 0.0 && (lhs < 0.0 || lhs * lhs < scratch.cos_h * scratch.cos_h * inside)) {
+      continue;
+    }
+    const double cos_theta = axis.dot(candidate.away);
+    const double farthest =
+        cos_theta >= scratch.cos_h
+            ? 1.0
+            : cos_theta * scratch.cos_h +
+                  std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta)) * scratch.sin_h;
+    if (sensor_pose.position_m.dot(candidate.away) +
+            sensor.max_range_m * std::max(0.0, farthest) < candidate.beyond_m) {
       continue;
     }
     scratch.in_cone.push_back(candidate.body);
@@ -137,26 +167,56 @@ std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& 
       touching = true;
       continue;
     }
-    per_metre.push_back(rotation.transpose() * to_eigen(target.toward) / target.min_distance_m);
+    // (Paces only decide which rays are cast: rounding them differently changes no reading,
+    // since min_distance_m gives up far more than that.)
+    per_metre.push_back(rotation.transpose() * to_eigen(target.toward) *
+                        (1.0 / target.min_distance_m));
   }
   scratch.touching = touching;
   std::vector<double>& paces = scratch.paces;
-  paces.resize(directions.size());
+  const std::size_t count = directions.size();
+  paces.resize(count);
+  double* pace = paces.data();
   std::size_t fastest = 0;
-  for (std::size_t k = 0; k < directions.size(); ++k) {
-    double pace = -std::numeric_limits<double>::infinity();
-    for (const Vec3& step : per_metre) pace = std::max(pace, directions[k].dot(step));
-    paces[k] = pace;
-    if (pace > paces[fastest]) fastest = k;
+  double top = -std::numeric_limits<double>::infinity();
+  const auto keep = [&](std::size_t k, double value) {
+    pace[k] = value;
+    const bool faster = value > top;  // without a branch: which ray wins varies
+    fastest = faster ? k : fastest;
+    top = faster ? value : top;
+  };
+  if (per_metre.size() == 1) {  // the usual case: one target (a wall, a robot)
+    const Vec3 step = per_metre.front();
+    for (std::size_t k = 0; k < count; ++k) keep(k, directions[k].dot(step));
+  } else {
+    for (std::size_t k = 0; k < count; ++k) {
+      double value = -std::numeric_limits<double>::infinity();
+      for (const Vec3& step : per_metre) value = std::max(value, directions[k].dot(step));
+      keep(k, value);
+    }
   }
   return touching ? 0 : fastest;
 }
 
-// Whether ray k may hit within `limit` (only nearer than it if @p strictly).
-bool may_hit(const ConeScratch& scratch, std::size_t k, double limit, bool strictly) {
-  if (scratch.touching) return !strictly || limit > 0.0;
-  const double reach = scratch.paces[k] * limit;
-  return strictly ? reach > 1.0 : reach >= 1.0;
+// Casts ray @p first, then every other ray of @p count in turn that may still beat the best
+// hit so far (a shorter hit, or an equal one from an earlier ray): @p may_hit(k, limit,
+// strictly) says whether ray k may hit within limit (only nearer than it if strictly).
+template <typename MayHit, typename Cast>
+void cast_in_turn(std::size_t first, std::size_t count, double range, const ConeReading& best,
+                  const std::size_t& best_ray, MayHit may_hit, Cast cast) {
+  double limit = range;  // min(best.distance_m, range), kept up to date
+  if (may_hit(first, limit, false)) {
+    cast(first, limit);
+    limit = std::min(best.distance_m, range);
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    if (!may_hit(k, limit, false) || k == first ||
+        (k > best_ray && !may_hit(k, best.distance_m, true))) {
+      continue;
+    }
+    cast(k, limit);
+    limit = std::min(best.distance_m, range);
+  }
 }
 
 }  // namespace
@@ -198,15 +258,20 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
     best.point_m = directions[k] * hit.distance_m;
     best.normal = rotation.transpose() * hit.normal;
   };
-  if (may_hit(scratch, first, sensor.max_range_m, false)) cast(first, sensor.max_range_m);
-  for (std::size_t k = 0; k < directions.size(); ++k) {
-    if (k == first) continue;
-    const double limit = std::min(best.distance_m, sensor.max_range_m);
-    if (!may_hit(scratch, k, limit, false) ||
-        (k > best_ray && !may_hit(scratch, k, best.distance_m, true))) {
-      continue;
-    }
-    cast(k, limit);
+  const std::size_t count = directions.size();
+  if (scratch.touching) {
+    // Any ray may hit at 0, so every ray may hit within any limit, and nearer than one above 0.
+    cast_in_turn(first, count, sensor.max_range_m, best, best_ray,
+                 [](std::size_t, double limit, bool strictly) { return !strictly || limit > 0.0; },
+                 cast);
+  } else {
+    const double* pace = scratch.paces.data();
+    cast_in_turn(first, count, sensor.max_range_m, best, best_ray,
+                 [pace](std::size_t k, double limit, bool strictly) {
+                   const double reach = pace[k] * limit;
+                   return strictly ? reach > 1.0 : reach >= 1.0;
+                 },
+                 cast);
   }
   return best;
 }
