@@ -97,6 +97,12 @@ struct ConeReader::Scratch {
   bool touching = false;        // some target touches the sensor
   double half_angle_rad = -1.0;  // the angle cos_h and sin_h belong to
   double cos_h = 0.0, sin_h = 0.0;
+  // The rays' layout (cone_ray_directions) for the sampling it was made for: ray (ring r,
+  // azimuth j) is (ring_cos[r], ring_sin[r] azimuth_cos[j], ring_sin[r] azimuth_sin[j]).
+  double layout_half_angle_rad = -1.0;
+  int layout_rings = -1, layout_azimuths = -1;
+  std::vector<double> ring_cos, ring_sin, azimuth_cos, azimuth_sin;
+  std::vector<double> lean;  // per azimuth, see cast_one_target
 };
 
 ConeReader::ConeReader() : scratch_(std::make_unique<Scratch>()) {}
@@ -154,10 +160,9 @@ void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sens
 // min_distance_m away along toward_j, which ray d reaches after min_distance_m / (d · toward_j)
 // metres, or never if d · toward_j <= 0. So no hit of ray k is nearer than 1 / s_k, with
 //     s_k = max_j (d_k · toward_j) / min_distance_j,
-// and none at all if s_k <= 0. Returns the ray with the largest s_k (the first on a tie), or
-// ray 0 when a target touches the sensor: any ray may then hit at 0, and the first one wins.
-std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& directions,
-                      ConeScratch& scratch) {
+// and none at all if s_k <= 0. per_metre holds each target's toward_j / min_distance_j in the
+// sensor frame (@p rotation: sensor to world), unless a target touches the sensor.
+void per_metre_steps(const Eigen::Matrix3d& rotation, ConeScratch& scratch) {
   const std::vector<RayTarget>& targets = scratch.targets;
   std::vector<Vec3>& per_metre = scratch.per_metre;
   per_metre.clear();
@@ -173,6 +178,12 @@ std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& 
                         (1.0 / target.min_distance_m));
   }
   scratch.touching = touching;
+}
+
+// Each ray's s_k (see per_metre_steps); returns the ray with the largest (the first on a tie),
+// or ray 0 when a target touches the sensor: any ray may then hit at 0, and the first one wins.
+std::size_t hit_paces(const std::vector<Vec3>& directions, ConeScratch& scratch) {
+  const std::vector<Vec3>& per_metre = scratch.per_metre;
   std::vector<double>& paces = scratch.paces;
   const std::size_t count = directions.size();
   paces.resize(count);
@@ -195,7 +206,7 @@ std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& 
       keep(k, value);
     }
   }
-  return touching ? 0 : fastest;
+  return scratch.touching ? 0 : fastest;
 }
 
 // Casts ray @p first, then every other ray of @p count in turn that may still beat the best
@@ -216,6 +227,84 @@ void cast_in_turn(std::size_t first, std::size_t count, double range, const Cone
     }
     cast(k, limit);
     limit = std::min(best.distance_m, range);
+  }
+}
+
+// Keeps the layout of @p sensor's rays, as cone_ray_directions lays them out.
+void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
+  if (scratch.layout_half_angle_rad == sensor.half_angle_rad &&
+      scratch.layout_rings == sensor.rings && scratch.layout_azimuths == sensor.azimuths) {
+    return;
+  }
+  scratch.layout_half_angle_rad = sensor.half_angle_rad;
+  scratch.layout_rings = sensor.rings;
+  scratch.layout_azimuths = sensor.azimuths;
+  scratch.ring_cos.clear();
+  scratch.ring_sin.clear();
+  scratch.azimuth_cos.clear();
+  scratch.azimuth_sin.clear();
+  for (int ring = 1; ring <= sensor.rings; ++ring) {
+    const double polar = sensor.half_angle_rad * ring / sensor.rings;
+    scratch.ring_cos.push_back(std::cos(polar));
+    scratch.ring_sin.push_back(std::sin(polar));
+  }
+  for (int j = 0; j < sensor.azimuths; ++j) {
+    const double azimuth = 2.0 * kPi * j / sensor.azimuths;
+    scratch.azimuth_cos.push_back(std::cos(azimuth));
+    scratch.azimuth_sin.push_back((2 * j == sensor.azimuths || j == 0) ? 0.0 : std::sin(azimuth));
+  }
+}
+
+// cast_in_turn for one target that does not touch the sensor (the usual case: a wall, a
+// robot), without a pace per ray: ray (r, j)'s pace is c_r s_x + s_r lean_j, with
+// lean_j = cos a_j s_y + sin a_j s_z (@p step = s, see hit_paces; c_r, s_r the ring's cosine
+// and sine, s_r >= 0). So the azimuth that leans most toward the target leads in every ring
+// (each product and sum rounds monotonically, so this holds of the rounded paces too): the
+// fastest ray is the axis or that azimuth in some ring, and a ring whose leading ray may not hit
+// within the limit is skipped whole. These paces round otherwise than hit_paces' (which
+// changes no reading, see there).
+template <typename Cast>
+void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
+                     const ConeReading& best, const std::size_t& best_ray, Cast cast) {
+  const std::size_t azimuths = scratch.azimuth_cos.size();
+  std::vector<double>& lean = scratch.lean;
+  lean.resize(azimuths);
+  std::size_t lead = 0;
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < azimuths; ++j) {
+    lean[j] = scratch.azimuth_cos[j] * step.y() + scratch.azimuth_sin[j] * step.z();
+    const bool more = lean[j] > top;  // without a branch: which azimuth leads varies
+    lead = more ? j : lead;
+    top = more ? lean[j] : top;
+  }
+  std::size_t first = 0;
+  double first_pace = step.x();
+  for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
+    const double pace = scratch.ring_cos[r] * step.x() + scratch.ring_sin[r] * top;
+    if (pace > first_pace) {
+      first = 1 + r * azimuths + lead;
+      first_pace = pace;
+    }
+  }
+  double limit = range;  // min(best.distance_m, range), kept up to date
+  if (first_pace * limit >= 1.0) {
+    cast(first, limit);
+    limit = std::min(best.distance_m, range);
+  }
+  const auto visit = [&](std::size_t k, double pace) {
+    if (!(pace * limit >= 1.0) || k == first ||
+        (k > best_ray && !(pace * best.distance_m > 1.0))) {
+      return;
+    }
+    cast(k, limit);
+    limit = std::min(best.distance_m, range);
+  };
+  visit(0, step.x());
+  for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
+    const double along = scratch.ring_cos[r] * step.x();
+    const double across = scratch.ring_sin[r];
+    if (!((along + across * top) * limit >= 1.0)) continue;  // not even the leading ray
+    for (std::size_t j = 0; j < azimuths; ++j) visit(1 + r * azimuths + j, along + across * lean[j]);
   }
 }
 
@@ -240,7 +329,7 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
   }
   if (targets.empty()) return best;
   const Eigen::Matrix3d rotation = sensor_pose.orientation.toRotationMatrix();
-  const std::size_t first = hit_paces(rotation, directions, scratch);
+  per_metre_steps(rotation, scratch);
   // The reading is the shortest hit over the rays, the earliest ray on a tie. The ray that may
   // hit soonest usually finds it at once; every ray that cannot beat the best so far is then
   // skipped, which changes nothing. The checks are inline: most rays stop at them.
@@ -259,6 +348,13 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
     best.normal = rotation.transpose() * hit.normal;
   };
   const std::size_t count = directions.size();
+  if (!scratch.touching && scratch.per_metre.size() == 1 &&
+      count == 1 + static_cast<std::size_t>(sensor.rings) * sensor.azimuths) {
+    cache_layout(sensor, scratch);
+    cast_one_target(scratch.per_metre.front(), sensor.max_range_m, scratch, best, best_ray, cast);
+    return best;
+  }
+  const std::size_t first = hit_paces(directions, scratch);
   if (scratch.touching) {
     // Any ray may hit at 0, so every ray may hit within any limit, and nearer than one above 0.
     cast_in_turn(first, count, sensor.max_range_m, best, best_ray,
