@@ -110,10 +110,11 @@ class ConeReader {
   ConeReader& operator=(ConeReader&&) noexcept;
 
   /// Reads one cone against candidate bodies (what lies around the robot, in handle order);
-  /// only candidates whose bounding spheres reach into the cone are ray-tested. Candidates
+  /// only candidates whose bounding spheres and half-spaces reach into the cone are
+  /// ray-tested, and only the rays that may still beat the best hit so far are cast. Candidates
   /// that cannot be seen change nothing: the reading is the shortest hit over the rays, the
   /// earliest ray on a tie. @p sensor_pose is the sensor frame in the world; @p directions
-  /// come from cone_ray_directions.
+  /// come from cone_ray_directions(sensor) (their layout, axis then rings, is relied on).
   ConeReading read(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
                    const ConeSensor& sensor, const std::vector<Vec3>& directions);
 

@@ -257,7 +257,7 @@ void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
 
 // cast_in_turn for one target that does not touch the sensor (the usual case: a wall, a
 // robot), without a pace per ray: ray (r, j)'s pace is c_r s_x + s_r lean_j, with
-// lean_j = cos a_j s_y + sin a_j s_z (@p step = s, see hit_paces; c_r, s_r the ring's cosine
+// lean_j = cos a_j s_y + sin a_j s_z (@p step = s, see per_metre_steps; c_r, s_r the ring's cosine
 // and sine, s_r >= 0). So the azimuth that leans most toward the target leads in every ring
 // (each product and sum rounds monotonically, so this holds of the rounded paces too): the
 // fastest ray is the axis or that azimuth in some ring, and a ring whose leading ray may not hit
