@@ -17,6 +17,11 @@ Add ``--cache-sim=yes --branch-sim=yes --D1=49152,12,64 --LL=2097152,16,64`` for
 (L1d and this machine's 2 MiB L2 as the last level) and branch mispredictions, which tell more
 than instructions where a step waits on memory (docs/benchmarks.md, "Learning").
 
+Count over the benchmark's own window (``--seed 1 --warmup 6`` and ``--steps`` of 2e6 robot-steps:
+2000 at 100 x 10): the default 20 + 50 steps are the first seconds, before the robots have
+driven into the walls, and count a fifth of what a robot-step costs there (docs/benchmarks.md,
+"Learning", issue 25's speed goal).
+
 Instruction counts do not depend on the machine's load, unlike wall time. Without valgrind the
 script just steps (a smoke test).
 """

@@ -79,16 +79,26 @@ struct ConeReading {
   Vec3 normal = Vec3::Zero();       ///< its outward surface normal, sensor frame (zero for none)
 };
 
-/// A body a cone may see, with a sphere about its origin that encloses it (radius rounded up):
-/// computed once per robot, then culled against each of its cones.
+/// A body a cone may see, with a sphere about its origin that encloses it (radius rounded up)
+/// and, when known, a half-space that holds it: computed once per robot, then culled against
+/// each of its cones.
 struct ConeCandidate {
   const Body* body = nullptr;
   Vec3 centre_m = Vec3::Zero();  ///< the body's origin, world frame
   double radius_m = 0.0;
+  /// Every point p of the body has p · away >= beyond_m (the plane through its point closest
+  /// to a viewpoint, square to the way there, moved toward the viewpoint by a little more than
+  /// rounding); away is unit, or zero when the viewpoint touches the body (no half-space).
+  Vec3 away = Vec3::Zero();
+  double beyond_m = 0.0;
 };
 
-/// @p body as a candidate, where it is now.
+/// @p body as a candidate, where it is now (no half-space yet).
 ConeCandidate cone_candidate(const Body& body);
+
+/// Gives @p candidate the half-space that holds its body, seen from @p viewpoint; returns the
+/// distance from @p viewpoint to the body less rounding (<= 0: touching, and no half-space).
+double bound_candidate(ConeCandidate& candidate, const Vec3& viewpoint);
 
 /// Reads cones. It keeps its working lists from one read to the next, so that reading
 /// allocates nothing; one reader per thread.
@@ -100,10 +110,11 @@ class ConeReader {
   ConeReader& operator=(ConeReader&&) noexcept;
 
   /// Reads one cone against candidate bodies (what lies around the robot, in handle order);
-  /// only candidates whose bounding spheres reach into the cone are ray-tested. Candidates
+  /// only candidates whose bounding spheres and half-spaces reach into the cone are
+  /// ray-tested, and only the rays that may still beat the best hit so far are cast. Candidates
   /// that cannot be seen change nothing: the reading is the shortest hit over the rays, the
   /// earliest ray on a tie. @p sensor_pose is the sensor frame in the world; @p directions
-  /// come from cone_ray_directions.
+  /// come from cone_ray_directions(sensor) (their layout, axis then rings, is relied on).
   ConeReading read(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
                    const ConeSensor& sensor, const std::vector<Vec3>& directions);
 

@@ -74,6 +74,20 @@ ConeCandidate cone_candidate(const Body& body) {
                        enclosing_radius(body.primitive)};
 }
 
+double bound_candidate(ConeCandidate& candidate, const Vec3& viewpoint) {
+  const RayTarget target = ray_target(*candidate.body, viewpoint);
+  candidate.away.setZero();
+  candidate.beyond_m = 0.0;
+  if (target.min_distance_m > 0.0) {
+    // ray_target's distance is short of the closest point by more than its rounding; the
+    // plane's offset gives up a little more for the products' rounding (far more than it).
+    candidate.away = to_eigen(target.toward);
+    candidate.beyond_m = viewpoint.dot(candidate.away) + target.min_distance_m -
+                         1e-9 * (1.0 + viewpoint.cwiseAbs().maxCoeff());
+  }
+  return target.min_distance_m;
+}
+
 // What a cone reads with, kept by its reader so that reading a cone allocates nothing.
 struct ConeReader::Scratch {
   std::vector<const Body*> in_cone;
@@ -83,6 +97,12 @@ struct ConeReader::Scratch {
   bool touching = false;        // some target touches the sensor
   double half_angle_rad = -1.0;  // the angle cos_h and sin_h belong to
   double cos_h = 0.0, sin_h = 0.0;
+  // The rays' layout (cone_ray_directions) for the sampling it was made for: ray (ring r,
+  // azimuth j) is (ring_cos[r], ring_sin[r] azimuth_cos[j], ring_sin[r] azimuth_sin[j]).
+  double layout_half_angle_rad = -1.0;
+  int layout_rings = -1, layout_azimuths = -1;
+  std::vector<double> ring_cos, ring_sin, azimuth_cos, azimuth_sin;
+  std::vector<double> lean;  // per azimuth, see cast_one_target
 };
 
 ConeReader::ConeReader() : scratch_(std::make_unique<Scratch>()) {}
@@ -94,13 +114,19 @@ namespace {
 
 using ConeScratch = ConeReader::Scratch;
 
-// Keeps the candidates whose bounding spheres reach into the cone: most of a robot's
-// neighbours lie beside or behind a given sensor, and a ray test costs more than this check.
-// A sphere of radius R whose centre is d > R away reaches into the cone when the centre is at
-// most h + asin(R / d) off the axis; both angles lie in [0, pi), so in cosines:
+// Keeps the candidates that may reach into the cone: most of a robot's neighbours lie beside
+// or behind a given sensor, and a ray test costs more than these checks.
+// - Its bounding sphere: a sphere of radius R whose centre is d > R away reaches into the cone
+//   when the centre is at most h + asin(R / d) off the axis; both angles lie in [0, pi), so in
+//   cosines:
 //     offset · axis + R sin h >= d cos(h + asin(R / d)) + R sin h = cos h sqrt(d^2 - R^2),
-// compared squared when the left side is positive (it is read with a little slack, so that
-// rounding keeps a body rather than drops it).
+//   compared squared when the left side is positive (it is read with a little slack, so that
+//   rounding keeps a body rather than drops it).
+// - Its half-space {p : p · away >= beyond} (a wall's sphere is large, its half-space is not):
+//   the cone's points within range, s + r u (0 <= r <= range, u at most h off the axis), reach
+//   at most s · away + range max(0, cos(max(0, theta - h))) along away, theta the axis's angle
+//   to away; cos(theta - h) = cos theta cos h + sin theta sin h. (The half-space already gives
+//   up more than the rounding here, see cone_candidate.)
 void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
                   const ConeSensor& sensor, ConeScratch& scratch) {
   const Vec3 axis = sensor_pose.orientation * Vec3::UnitX();
@@ -116,6 +142,16 @@ void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sens
     if (inside > 0.0 && (lhs < 0.0 || lhs * lhs < scratch.cos_h * scratch.cos_h * inside)) {
       continue;
     }
+    const double cos_theta = axis.dot(candidate.away);
+    const double farthest =
+        cos_theta >= scratch.cos_h
+            ? 1.0
+            : cos_theta * scratch.cos_h +
+                  std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta)) * scratch.sin_h;
+    if (sensor_pose.position_m.dot(candidate.away) +
+            sensor.max_range_m * std::max(0.0, farthest) < candidate.beyond_m) {
+      continue;
+    }
     scratch.in_cone.push_back(candidate.body);
   }
 }
@@ -124,10 +160,9 @@ void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sens
 // min_distance_m away along toward_j, which ray d reaches after min_distance_m / (d · toward_j)
 // metres, or never if d · toward_j <= 0. So no hit of ray k is nearer than 1 / s_k, with
 //     s_k = max_j (d_k · toward_j) / min_distance_j,
-// and none at all if s_k <= 0. Returns the ray with the largest s_k (the first on a tie), or
-// ray 0 when a target touches the sensor: any ray may then hit at 0, and the first one wins.
-std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& directions,
-                      ConeScratch& scratch) {
+// and none at all if s_k <= 0. per_metre holds each target's toward_j / min_distance_j in the
+// sensor frame (@p rotation: sensor to world), unless a target touches the sensor.
+void per_metre_steps(const Eigen::Matrix3d& rotation, ConeScratch& scratch) {
   const std::vector<RayTarget>& targets = scratch.targets;
   std::vector<Vec3>& per_metre = scratch.per_metre;
   per_metre.clear();
@@ -137,26 +172,140 @@ std::size_t hit_paces(const Eigen::Matrix3d& rotation, const std::vector<Vec3>& 
       touching = true;
       continue;
     }
-    per_metre.push_back(rotation.transpose() * to_eigen(target.toward) / target.min_distance_m);
+    // (Paces only decide which rays are cast: rounding them differently changes no reading,
+    // since min_distance_m gives up far more than that.)
+    per_metre.push_back(rotation.transpose() * to_eigen(target.toward) *
+                        (1.0 / target.min_distance_m));
   }
   scratch.touching = touching;
-  std::vector<double>& paces = scratch.paces;
-  paces.resize(directions.size());
-  std::size_t fastest = 0;
-  for (std::size_t k = 0; k < directions.size(); ++k) {
-    double pace = -std::numeric_limits<double>::infinity();
-    for (const Vec3& step : per_metre) pace = std::max(pace, directions[k].dot(step));
-    paces[k] = pace;
-    if (pace > paces[fastest]) fastest = k;
-  }
-  return touching ? 0 : fastest;
 }
 
-// Whether ray k may hit within `limit` (only nearer than it if @p strictly).
-bool may_hit(const ConeScratch& scratch, std::size_t k, double limit, bool strictly) {
-  if (scratch.touching) return !strictly || limit > 0.0;
-  const double reach = scratch.paces[k] * limit;
-  return strictly ? reach > 1.0 : reach >= 1.0;
+// Each ray's s_k (see per_metre_steps); returns the ray with the largest (the first on a tie),
+// or ray 0 when a target touches the sensor: any ray may then hit at 0, and the first one wins.
+std::size_t hit_paces(const std::vector<Vec3>& directions, ConeScratch& scratch) {
+  const std::vector<Vec3>& per_metre = scratch.per_metre;
+  std::vector<double>& paces = scratch.paces;
+  const std::size_t count = directions.size();
+  paces.resize(count);
+  double* pace = paces.data();
+  std::size_t fastest = 0;
+  double top = -std::numeric_limits<double>::infinity();
+  const auto keep = [&](std::size_t k, double value) {
+    pace[k] = value;
+    const bool faster = value > top;  // without a branch: which ray wins varies
+    fastest = faster ? k : fastest;
+    top = faster ? value : top;
+  };
+  if (per_metre.size() == 1) {  // the usual case: one target (a wall, a robot)
+    const Vec3 step = per_metre.front();
+    for (std::size_t k = 0; k < count; ++k) keep(k, directions[k].dot(step));
+  } else {
+    for (std::size_t k = 0; k < count; ++k) {
+      double value = -std::numeric_limits<double>::infinity();
+      for (const Vec3& step : per_metre) value = std::max(value, directions[k].dot(step));
+      keep(k, value);
+    }
+  }
+  return scratch.touching ? 0 : fastest;
+}
+
+// Casts ray @p first, then every other ray of @p count in turn that may still beat the best
+// hit so far (a shorter hit, or an equal one from an earlier ray): @p may_hit(k, limit,
+// strictly) says whether ray k may hit within limit (only nearer than it if strictly).
+template <typename MayHit, typename Cast>
+void cast_in_turn(std::size_t first, std::size_t count, double range, const ConeReading& best,
+                  const std::size_t& best_ray, MayHit may_hit, Cast cast) {
+  double limit = range;  // min(best.distance_m, range), kept up to date
+  if (may_hit(first, limit, false)) {
+    cast(first, limit);
+    limit = std::min(best.distance_m, range);
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    if (!may_hit(k, limit, false) || k == first ||
+        (k > best_ray && !may_hit(k, best.distance_m, true))) {
+      continue;
+    }
+    cast(k, limit);
+    limit = std::min(best.distance_m, range);
+  }
+}
+
+// Keeps the layout of @p sensor's rays, as cone_ray_directions lays them out.
+void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
+  if (scratch.layout_half_angle_rad == sensor.half_angle_rad &&
+      scratch.layout_rings == sensor.rings && scratch.layout_azimuths == sensor.azimuths) {
+    return;
+  }
+  scratch.layout_half_angle_rad = sensor.half_angle_rad;
+  scratch.layout_rings = sensor.rings;
+  scratch.layout_azimuths = sensor.azimuths;
+  scratch.ring_cos.clear();
+  scratch.ring_sin.clear();
+  scratch.azimuth_cos.clear();
+  scratch.azimuth_sin.clear();
+  for (int ring = 1; ring <= sensor.rings; ++ring) {
+    const double polar = sensor.half_angle_rad * ring / sensor.rings;
+    scratch.ring_cos.push_back(std::cos(polar));
+    scratch.ring_sin.push_back(std::sin(polar));
+  }
+  for (int j = 0; j < sensor.azimuths; ++j) {
+    const double azimuth = 2.0 * kPi * j / sensor.azimuths;
+    scratch.azimuth_cos.push_back(std::cos(azimuth));
+    scratch.azimuth_sin.push_back((2 * j == sensor.azimuths || j == 0) ? 0.0 : std::sin(azimuth));
+  }
+}
+
+// cast_in_turn for one target that does not touch the sensor (the usual case: a wall, a
+// robot), without a pace per ray: ray (r, j)'s pace is c_r s_x + s_r lean_j, with
+// lean_j = cos a_j s_y + sin a_j s_z (@p step = s, see per_metre_steps; c_r, s_r the ring's cosine
+// and sine, s_r >= 0). So the azimuth that leans most toward the target leads in every ring
+// (each product and sum rounds monotonically, so this holds of the rounded paces too): the
+// fastest ray is the axis or that azimuth in some ring, and a ring whose leading ray may not hit
+// within the limit is skipped whole. These paces round otherwise than hit_paces' (which
+// changes no reading, see there).
+template <typename Cast>
+void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
+                     const ConeReading& best, const std::size_t& best_ray, Cast cast) {
+  const std::size_t azimuths = scratch.azimuth_cos.size();
+  std::vector<double>& lean = scratch.lean;
+  lean.resize(azimuths);
+  std::size_t lead = 0;
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < azimuths; ++j) {
+    lean[j] = scratch.azimuth_cos[j] * step.y() + scratch.azimuth_sin[j] * step.z();
+    const bool more = lean[j] > top;  // without a branch: which azimuth leads varies
+    lead = more ? j : lead;
+    top = more ? lean[j] : top;
+  }
+  std::size_t first = 0;
+  double first_pace = step.x();
+  for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
+    const double pace = scratch.ring_cos[r] * step.x() + scratch.ring_sin[r] * top;
+    if (pace > first_pace) {
+      first = 1 + r * azimuths + lead;
+      first_pace = pace;
+    }
+  }
+  double limit = range;  // min(best.distance_m, range), kept up to date
+  if (first_pace * limit >= 1.0) {
+    cast(first, limit);
+    limit = std::min(best.distance_m, range);
+  }
+  const auto visit = [&](std::size_t k, double pace) {
+    if (!(pace * limit >= 1.0) || k == first ||
+        (k > best_ray && !(pace * best.distance_m > 1.0))) {
+      return;
+    }
+    cast(k, limit);
+    limit = std::min(best.distance_m, range);
+  };
+  visit(0, step.x());
+  for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
+    const double along = scratch.ring_cos[r] * step.x();
+    const double across = scratch.ring_sin[r];
+    if (!((along + across * top) * limit >= 1.0)) continue;  // not even the leading ray
+    for (std::size_t j = 0; j < azimuths; ++j) visit(1 + r * azimuths + j, along + across * lean[j]);
+  }
 }
 
 }  // namespace
@@ -180,7 +329,7 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
   }
   if (targets.empty()) return best;
   const Eigen::Matrix3d rotation = sensor_pose.orientation.toRotationMatrix();
-  const std::size_t first = hit_paces(rotation, directions, scratch);
+  per_metre_steps(rotation, scratch);
   // The reading is the shortest hit over the rays, the earliest ray on a tie. The ray that may
   // hit soonest usually finds it at once; every ray that cannot beat the best so far is then
   // skipped, which changes nothing. The checks are inline: most rays stop at them.
@@ -198,15 +347,27 @@ ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
     best.point_m = directions[k] * hit.distance_m;
     best.normal = rotation.transpose() * hit.normal;
   };
-  if (may_hit(scratch, first, sensor.max_range_m, false)) cast(first, sensor.max_range_m);
-  for (std::size_t k = 0; k < directions.size(); ++k) {
-    if (k == first) continue;
-    const double limit = std::min(best.distance_m, sensor.max_range_m);
-    if (!may_hit(scratch, k, limit, false) ||
-        (k > best_ray && !may_hit(scratch, k, best.distance_m, true))) {
-      continue;
-    }
-    cast(k, limit);
+  const std::size_t count = directions.size();
+  if (!scratch.touching && scratch.per_metre.size() == 1 &&
+      count == 1 + static_cast<std::size_t>(sensor.rings) * sensor.azimuths) {
+    cache_layout(sensor, scratch);
+    cast_one_target(scratch.per_metre.front(), sensor.max_range_m, scratch, best, best_ray, cast);
+    return best;
+  }
+  const std::size_t first = hit_paces(directions, scratch);
+  if (scratch.touching) {
+    // Any ray may hit at 0, so every ray may hit within any limit, and nearer than one above 0.
+    cast_in_turn(first, count, sensor.max_range_m, best, best_ray,
+                 [](std::size_t, double limit, bool strictly) { return !strictly || limit > 0.0; },
+                 cast);
+  } else {
+    const double* pace = scratch.paces.data();
+    cast_in_turn(first, count, sensor.max_range_m, best, best_ray,
+                 [pace](std::size_t k, double limit, bool strictly) {
+                   const double reach = pace[k] * limit;
+                   return strictly ? reach > 1.0 : reach >= 1.0;
+                 },
+                 cast);
   }
   return best;
 }

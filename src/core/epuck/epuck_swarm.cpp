@@ -454,8 +454,9 @@ void EpuckSwarm::read_proximity(std::size_t index, const Quat& heading, NearbyIt
   Robot& robot = robots_[index];
   const Pose2& pose = robot.pose;
   candidates_.clear();
+  const Vec3 viewpoint(pose.x_m, pose.y_m, sensor_height_m_);
   for (NearbyIterator it = begin; it != end; ++it) {
-    const ConeCandidate candidate = cone_candidate(**it);
+    ConeCandidate candidate = cone_candidate(**it);
     // Slack: a body that rounding puts on the edge is kept, never dropped.
     const double reach_m = sensor_reach_m_ + candidate.radius_m + 1e-9;
     const double dx = candidate.centre_m.x() - pose.x_m, dy = candidate.centre_m.y() - pose.y_m;
@@ -466,10 +467,8 @@ void EpuckSwarm::read_proximity(std::size_t index, const Quat& heading, NearbyIt
     }
     // A body whose closest point lies beyond every cone's reach from the robot (a wall whose
     // enclosing sphere is large but which stands farther away) cannot be seen either.
-    if (ray_target(**it, Vec3(pose.x_m, pose.y_m, sensor_height_m_)).min_distance_m >
-        sensor_ball_m_ + 1e-9) {
-      continue;
-    }
+    // Its half-space, seen from the same point, spares the cones that face away from it.
+    if (bound_candidate(candidate, viewpoint) > sensor_ball_m_ + 1e-9) continue;
     candidates_.push_back(candidate);
   }
   if (candidates_.empty() && !robot.ir_noise_on) {

@@ -14,6 +14,7 @@ struct Interval {
   double enter = -kInf;
   double exit = kInf;
   btVector3 normal{0, 0, 0};
+  bool unit = true;  // the normal is a unit axis already (a slab's), which normalising keeps
 };
 
 // Clips the interval by the slab |x_axis| <= half; false when the ray misses the slab.
@@ -27,6 +28,7 @@ bool clip_slab(double origin, double direction, double half, int axis, Interval&
     in.enter = near;
     in.normal.setZero();
     in.normal[axis] = direction > 0.0 ? -1.0 : 1.0;
+    in.unit = true;
   }
   if (far < in.exit) in.exit = far;
   return in.enter <= in.exit;
@@ -59,6 +61,7 @@ bool clip_round_side(const btVector3& o, const btVector3& d, double radius, Inte
     in.enter = near;
     const btVector3 p = o + d * near;
     in.normal = btVector3(p.x(), p.y(), 0.0) / radius;
+    in.unit = false;
   }
   if (far < in.exit) in.exit = far;
   return in.enter <= in.exit;
@@ -72,6 +75,7 @@ bool clip_sphere(const btVector3& o, const btVector3& d, double radius, Interval
   in.enter = near;
   in.exit = far;
   in.normal = (o + d * near) / radius;
+  in.unit = false;
   return true;
 }
 
@@ -102,7 +106,8 @@ bool intersect_primitive(const Primitive& primitive, const btVector3& origin,
     normal = -direction;
   } else {
     t = in.enter;
-    normal = in.normal.normalized();
+    // A unit axis normalises to itself, bit for bit: only a curved surface's normal needs it.
+    normal = in.unit ? in.normal : in.normal.normalized();
   }
   return true;
 }
