@@ -118,6 +118,18 @@ class ConeReader {
   ConeReading read(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
                    const ConeSensor& sensor, const std::vector<Vec3>& directions);
 
+  /// read in two halves, for a caller that can find the sensor's frame cheaply but not
+  /// exactly: cull keeps the candidates that may reach into the cone of a sensor at
+  /// @p position_m looking along @p axis (unit, world frame), and says whether any is left.
+  /// Both may be off by rounding (a few units in the last place of the exact frame's), which
+  /// the cull's slack covers, so the candidates it keeps are those read would test or more,
+  /// and the reading is the same. read_culled then reads what the last cull kept, from the
+  /// exact frame @p sensor_pose (whose bits reach the reading).
+  bool cull(const std::vector<ConeCandidate>& candidates, const Vec3& position_m,
+            const Vec3& axis, const ConeSensor& sensor);
+  ConeReading read_culled(const Pose& sensor_pose, const ConeSensor& sensor,
+                          const std::vector<Vec3>& directions);
+
   struct Scratch;  // defined where it is used
 
  private:

@@ -229,6 +229,7 @@ class EpuckSwarm {
   const EpuckModel& model_;
   const std::vector<std::vector<Vec3>>& ray_directions_;  // per sensor, sensor frame
   const std::vector<Quat>& sensor_orientations_;          // per sensor, sensor to body
+  const std::vector<Vec3>& sensor_axes_;                  // per sensor, its axis in the body
   ConeReader& cone_reader_;
   std::vector<ConeCandidate>& candidates_;          // one robot's, for its cones
   std::vector<BodyBox>& body_boxes_;                // of find_nearby_among

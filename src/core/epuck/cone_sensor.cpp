@@ -127,14 +127,15 @@ using ConeScratch = ConeReader::Scratch;
 //   at most s · away + range max(0, cos(max(0, theta - h))) along away, theta the axis's angle
 //   to away; cos(theta - h) = cos theta cos h + sin theta sin h. (The half-space already gives
 //   up more than the rounding here, see cone_candidate.)
-void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sensor_pose,
-                  const ConeSensor& sensor, ConeScratch& scratch) {
-  const Vec3 axis = sensor_pose.orientation * Vec3::UnitX();
+// The frame (@p position, @p axis) may be off by rounding: 1e-12 m more reach and the slack
+// below cover far more than that.
+void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Vec3& position,
+                  const Vec3& axis, const ConeSensor& sensor, ConeScratch& scratch) {
   scratch.in_cone.clear();
   for (const ConeCandidate& candidate : candidates) {
     const double radius = candidate.radius_m;
-    const Vec3 offset = candidate.centre_m - sensor_pose.position_m;
-    const double reach = sensor.max_range_m + radius;
+    const Vec3 offset = candidate.centre_m - position;
+    const double reach = sensor.max_range_m + radius + 1e-12;
     const double squared = offset.squaredNorm();
     if (squared > reach * reach) continue;
     const double lhs = offset.dot(axis) + scratch.sin_h * radius + 1e-12 * reach;
@@ -148,7 +149,7 @@ void cull_to_cone(const std::vector<ConeCandidate>& candidates, const Pose& sens
             ? 1.0
             : cos_theta * scratch.cos_h +
                   std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta)) * scratch.sin_h;
-    if (sensor_pose.position_m.dot(candidate.away) +
+    if (position.dot(candidate.away) +
             sensor.max_range_m * std::max(0.0, farthest) < candidate.beyond_m) {
       continue;
     }
@@ -263,20 +264,30 @@ void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
 // fastest ray is the axis or that azimuth in some ring, and a ring whose leading ray may not hit
 // within the limit is skipped whole. These paces round otherwise than hit_paces' (which
 // changes no reading, see there).
+//
+// Within a ring, lean_j = |(s_y, s_z)| cos(a_j - phi) falls with the azimuth's angle from the
+// lead either way round, so the rays are visited from the lead outward on each side until one
+// cannot hit within the limit even with 1e-12 of slack: every ray farther on that side leans
+// less (to rounding, which the slack covers), so it could not either. The rays are cast in
+// another order than ray by ray, which changes no reading (see cast_in_turn).
 template <typename Cast>
 void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
                      const ConeReading& best, const std::size_t& best_ray, Cast cast) {
   const std::size_t azimuths = scratch.azimuth_cos.size();
-  std::vector<double>& lean = scratch.lean;
-  lean.resize(azimuths);
+  std::vector<double>& leans = scratch.lean;
+  leans.resize(azimuths);
+  double* lean = leans.data();
+  const double* azimuth_cos = scratch.azimuth_cos.data();
+  const double* azimuth_sin = scratch.azimuth_sin.data();
+  const double s_y = step.y(), s_z = step.z();
+  for (std::size_t j = 0; j < azimuths; ++j) lean[j] = azimuth_cos[j] * s_y + azimuth_sin[j] * s_z;
+  // The largest lean, in four independent chains (the order of a maximum changes nothing),
+  // then the first azimuth that has it.
+  double tops[4] = {lean[0], lean[0], lean[0], lean[0]};
+  for (std::size_t j = 0; j < azimuths; ++j) tops[j % 4] = std::max(tops[j % 4], lean[j]);
+  const double top = std::max(std::max(tops[0], tops[1]), std::max(tops[2], tops[3]));
   std::size_t lead = 0;
-  double top = -std::numeric_limits<double>::infinity();
-  for (std::size_t j = 0; j < azimuths; ++j) {
-    lean[j] = scratch.azimuth_cos[j] * step.y() + scratch.azimuth_sin[j] * step.z();
-    const bool more = lean[j] > top;  // without a branch: which azimuth leads varies
-    lead = more ? j : lead;
-    top = more ? lean[j] : top;
-  }
+  while (lead + 1 < azimuths && !(lean[lead] == top)) ++lead;
   std::size_t first = 0;
   double first_pace = step.x();
   for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
@@ -300,11 +311,23 @@ void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
     limit = std::min(best.distance_m, range);
   };
   visit(0, step.x());
+  const std::size_t half = azimuths / 2;
   for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
     const double along = scratch.ring_cos[r] * step.x();
     const double across = scratch.ring_sin[r];
     if (!((along + across * top) * limit >= 1.0)) continue;  // not even the leading ray
-    for (std::size_t j = 0; j < azimuths; ++j) visit(1 + r * azimuths + j, along + across * lean[j]);
+    const std::size_t ring = 1 + r * azimuths;
+    const auto walk = [&](std::size_t j) {  // false: none farther on this side may hit
+      const double pace = along + across * lean[j];
+      if (pace * limit < 1.0 - 1e-12) return false;
+      visit(ring + j, pace);
+      return true;
+    };
+    walk(lead);
+    for (std::size_t d = 1; d <= half && walk((lead + d) % azimuths); ++d) {
+    }
+    for (std::size_t d = 1; d < half && walk((lead + azimuths - d) % azimuths); ++d) {
+    }
   }
 }
 
@@ -313,14 +336,29 @@ void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
 ConeReading ConeReader::read(const std::vector<ConeCandidate>& candidates,
                              const Pose& sensor_pose, const ConeSensor& sensor,
                              const std::vector<Vec3>& directions) {
-  ConeReading best;
+  if (!cull(candidates, sensor_pose.position_m, sensor_pose.orientation * Vec3::UnitX(),
+            sensor)) {
+    return ConeReading();
+  }
+  return read_culled(sensor_pose, sensor, directions);
+}
+
+bool ConeReader::cull(const std::vector<ConeCandidate>& candidates, const Vec3& position_m,
+                      const Vec3& axis, const ConeSensor& sensor) {
   ConeScratch& scratch = *scratch_;
   if (scratch.half_angle_rad != sensor.half_angle_rad) {
     scratch.half_angle_rad = sensor.half_angle_rad;
     scratch.cos_h = std::cos(sensor.half_angle_rad);
     scratch.sin_h = std::sin(sensor.half_angle_rad);
   }
-  cull_to_cone(candidates, sensor_pose, sensor, scratch);
+  cull_to_cone(candidates, position_m, axis, sensor, scratch);
+  return !scratch.in_cone.empty();
+}
+
+ConeReading ConeReader::read_culled(const Pose& sensor_pose, const ConeSensor& sensor,
+                                    const std::vector<Vec3>& directions) {
+  ConeReading best;
+  ConeScratch& scratch = *scratch_;
   std::vector<RayTarget>& targets = scratch.targets;
   targets.clear();
   for (const Body* body : scratch.in_cone) {

@@ -63,11 +63,13 @@ struct EpuckSwarm::Shared {
     for (const ConeSensor& sensor : model.sensors) {
       ray_directions.push_back(cone_ray_directions(sensor));
       sensor_orientations.push_back(sensor_orientation(sensor));
+      sensor_axes.push_back(sensor_orientations.back() * Vec3::UnitX());
     }
   }
   const EpuckModel model;
   std::vector<std::vector<Vec3>> ray_directions;
   std::vector<Quat> sensor_orientations;
+  std::vector<Vec3> sensor_axes;  // each cone's axis, body frame
   ConeReader cone_reader;
   std::vector<ConeCandidate> candidates;
   std::vector<BodyBox> body_boxes;
@@ -91,6 +93,7 @@ EpuckSwarm::EpuckSwarm(CollisionWorld& world, const EpuckSwarm& like, std::uint6
 EpuckSwarm::EpuckSwarm(CollisionWorld& world, std::shared_ptr<Shared> shared, std::uint64_t seed)
     : world_(world), shared_(std::move(shared)), model_(shared_->model),
       ray_directions_(shared_->ray_directions), sensor_orientations_(shared_->sensor_orientations),
+      sensor_axes_(shared_->sensor_axes),
       cone_reader_(shared_->cone_reader), candidates_(shared_->candidates),
       body_boxes_(shared_->body_boxes), start_(shared_->start), bodies_(shared_->bodies),
       touched_(shared_->touched), seed_(seed) {
@@ -480,6 +483,10 @@ void EpuckSwarm::read_proximity(std::size_t index, const Quat& heading, NearbyIt
   }
   robot.sensors_blank = false;
   const Vec3 centre(pose.x_m, pose.y_m, 0.0);
+  // The cull needs each cone's frame only to rounding (ConeReader::cull): the heading's
+  // matrix gives it for a few products; the exact frame (a quaternion product and rotation,
+  // whose bits reach the readings) only for a cone that something may reach into.
+  const Eigen::Matrix3d turn = heading.toRotationMatrix();
   const std::size_t first = index * model_.sensors.size();
   RobotNoise& noise_streams = noise_[index];
   for (std::size_t k = 0; k < model_.sensors.size(); ++k) {
@@ -491,10 +498,13 @@ void EpuckSwarm::read_proximity(std::size_t index, const Quat& heading, NearbyIt
       out = Detection();
       clean_m = sensor.max_range_m;
     } else {
-      const Pose sensor_pose{centre + heading * sensor.position_m,
-                             heading * sensor_orientations_[k]};
-      const ConeReading reading =
-          cone_reader_.read(candidates_, sensor_pose, sensor, ray_directions_[k]);
+      ConeReading reading;
+      if (cone_reader_.cull(candidates_, centre + turn * sensor.position_m,
+                            turn * sensor_axes_[k], sensor)) {
+        const Pose sensor_pose{centre + heading * sensor.position_m,
+                               heading * sensor_orientations_[k]};
+        reading = cone_reader_.read_culled(sensor_pose, sensor, ray_directions_[k]);
+      }
       out.handle = reading.handle;
       out.point_m = reading.point_m;
       out.normal = reading.normal;
