@@ -268,7 +268,9 @@ void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
 // Within a ring, lean_j = |(s_y, s_z)| cos(a_j - phi) falls with the azimuth's angle from the
 // lead either way round, so the rays are visited from the lead outward on each side until one
 // cannot hit within the limit even with 1e-12 of slack: every ray farther on that side leans
-// less (to rounding, which the slack covers), so it could not either. The rays are cast in
+// less, to rounding (a few units in the last place of |s| limit), so it could not either. A
+// ray that may win has pace x limit above 1 by far more than that rounding: min_distance_m
+// gives up 1e-9 m or more (ray_target), 1e-9 / min_distance_m of it. The rays are cast in
 // another order than ray by ray, which changes no reading (see cast_in_turn).
 template <typename Cast>
 void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
