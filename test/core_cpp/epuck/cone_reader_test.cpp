@@ -104,7 +104,8 @@ TEST(ConeReader, ReadsWhatEveryRayWouldRead) {
       const ConeReading expected = every_ray(world, pose, sensor, directions);
       const ConeReading whole = reader.read(candidates, pose, sensor, directions);
       ConeReading halves;
-      const Eigen::Matrix3d frame = orientation.toRotationMatrix();  // rounds otherwise
+      // The swarm's cull frame: the axis from the rotation matrix, which rounds otherwise.
+      const Eigen::Matrix3d frame = orientation.toRotationMatrix();
       if (reader.cull(candidates, pose.position_m, frame.col(0), sensor)) {
         halves = reader.read_culled(pose, sensor, directions);
       }
@@ -114,16 +115,16 @@ TEST(ConeReader, ReadsWhatEveryRayWouldRead) {
       hits += expected.handle >= 0;
       // A tie between two rays (the mirrored rays of a level sensor facing a wall).
       int tied = 0;
-      const Eigen::Matrix3d rotation = orientation.toRotationMatrix();
       for (const Vec3& direction : directions) {
         tied += expected.handle >= 0 &&
-                world.ray_cast(pose.position_m, rotation * direction, sensor.max_range_m)
+                world.ray_cast(pose.position_m, frame * direction, sensor.max_range_m)
                         .distance_m == expected.distance_m;
       }
       ties += tied > 1;
     }
   }
-  // The scenes must test something: most cones see a body, and some readings are ties.
+  // The scenes must test something: a third of the cones or more see a body, and one reading
+  // in twenty or more is a tie.
   EXPECT_GT(hits, readings / 3) << hits << " of " << readings;
   EXPECT_GT(ties, readings / 20) << ties << " ties in " << readings;
 }
