@@ -12,6 +12,30 @@
 namespace evc {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+
+// The rays' layout: ray (ring r, azimuth j) is (ring_cos[r], ring_sin[r] azimuth_cos[j],
+// ring_sin[r] azimuth_sin[j]), after the axis.
+struct RayLayout {
+  std::vector<double> ring_cos, ring_sin, azimuth_cos, azimuth_sin;
+};
+
+void lay_out_rays(const ConeSensor& sensor, RayLayout& layout) {
+  layout.ring_cos.clear();
+  layout.ring_sin.clear();
+  layout.azimuth_cos.clear();
+  layout.azimuth_sin.clear();
+  for (int ring = 1; ring <= sensor.rings; ++ring) {
+    const double polar = sensor.half_angle_rad * ring / sensor.rings;
+    layout.ring_cos.push_back(std::cos(polar));
+    layout.ring_sin.push_back(std::sin(polar));
+  }
+  for (int j = 0; j < sensor.azimuths; ++j) {
+    const double azimuth = 2.0 * kPi * j / sensor.azimuths;
+    layout.azimuth_cos.push_back(std::cos(azimuth));
+    // Exact zeros at azimuths 0 and pi keep those rays in the horizontal plane.
+    layout.azimuth_sin.push_back((2 * j == sensor.azimuths || j == 0) ? 0.0 : std::sin(azimuth));
+  }
+}
 }  // namespace
 
 void validate_cone_sensor(const ConeSensor& sensor) {
@@ -38,17 +62,15 @@ Quat sensor_orientation(const ConeSensor& sensor) {
 }
 
 std::vector<Vec3> cone_ray_directions(const ConeSensor& sensor) {
+  RayLayout layout;
+  lay_out_rays(sensor, layout);
   std::vector<Vec3> directions;
-  directions.reserve(1 + static_cast<size_t>(sensor.rings) * sensor.azimuths);
+  directions.reserve(1 + layout.ring_cos.size() * layout.azimuth_cos.size());
   directions.emplace_back(Vec3::UnitX());
-  for (int ring = 1; ring <= sensor.rings; ++ring) {
-    const double polar = sensor.half_angle_rad * ring / sensor.rings;
-    for (int j = 0; j < sensor.azimuths; ++j) {
-      const double azimuth = 2.0 * kPi * j / sensor.azimuths;
-      // Exact zeros at azimuths 0 and pi keep those rays in the horizontal plane.
-      const double vertical = (2 * j == sensor.azimuths || j == 0) ? 0.0 : std::sin(azimuth);
-      directions.emplace_back(std::cos(polar), std::sin(polar) * std::cos(azimuth),
-                              std::sin(polar) * vertical);
+  for (std::size_t r = 0; r < layout.ring_cos.size(); ++r) {
+    for (std::size_t j = 0; j < layout.azimuth_cos.size(); ++j) {
+      directions.emplace_back(layout.ring_cos[r], layout.ring_sin[r] * layout.azimuth_cos[j],
+                              layout.ring_sin[r] * layout.azimuth_sin[j]);
     }
   }
   return directions;
@@ -97,11 +119,11 @@ struct ConeReader::Scratch {
   bool touching = false;        // some target touches the sensor
   double half_angle_rad = -1.0;  // the angle cos_h and sin_h belong to
   double cos_h = 0.0, sin_h = 0.0;
-  // The rays' layout (cone_ray_directions) for the sampling it was made for: ray (ring r,
-  // azimuth j) is (ring_cos[r], ring_sin[r] azimuth_cos[j], ring_sin[r] azimuth_sin[j]).
+  // The rays' layout (lay_out_rays, as cone_ray_directions lays them out) for the sampling
+  // it was made for.
   double layout_half_angle_rad = -1.0;
   int layout_rings = -1, layout_azimuths = -1;
-  std::vector<double> ring_cos, ring_sin, azimuth_cos, azimuth_sin;
+  RayLayout layout;
   std::vector<double> lean;  // per azimuth, see cast_one_target
 };
 
@@ -240,20 +262,7 @@ void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
   scratch.layout_half_angle_rad = sensor.half_angle_rad;
   scratch.layout_rings = sensor.rings;
   scratch.layout_azimuths = sensor.azimuths;
-  scratch.ring_cos.clear();
-  scratch.ring_sin.clear();
-  scratch.azimuth_cos.clear();
-  scratch.azimuth_sin.clear();
-  for (int ring = 1; ring <= sensor.rings; ++ring) {
-    const double polar = sensor.half_angle_rad * ring / sensor.rings;
-    scratch.ring_cos.push_back(std::cos(polar));
-    scratch.ring_sin.push_back(std::sin(polar));
-  }
-  for (int j = 0; j < sensor.azimuths; ++j) {
-    const double azimuth = 2.0 * kPi * j / sensor.azimuths;
-    scratch.azimuth_cos.push_back(std::cos(azimuth));
-    scratch.azimuth_sin.push_back((2 * j == sensor.azimuths || j == 0) ? 0.0 : std::sin(azimuth));
-  }
+  lay_out_rays(sensor, scratch.layout);
 }
 
 // cast_in_turn for one target that does not touch the sensor (the usual case: a wall, a
@@ -275,12 +284,12 @@ void cache_layout(const ConeSensor& sensor, ConeScratch& scratch) {
 template <typename Cast>
 void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
                      const ConeReading& best, const std::size_t& best_ray, Cast cast) {
-  const std::size_t azimuths = scratch.azimuth_cos.size();
+  const std::size_t azimuths = scratch.layout.azimuth_cos.size();
   std::vector<double>& leans = scratch.lean;
   leans.resize(azimuths);
   double* lean = leans.data();
-  const double* azimuth_cos = scratch.azimuth_cos.data();
-  const double* azimuth_sin = scratch.azimuth_sin.data();
+  const double* azimuth_cos = scratch.layout.azimuth_cos.data();
+  const double* azimuth_sin = scratch.layout.azimuth_sin.data();
   const double s_y = step.y(), s_z = step.z();
   for (std::size_t j = 0; j < azimuths; ++j) lean[j] = azimuth_cos[j] * s_y + azimuth_sin[j] * s_z;
   // The largest lean, in four independent chains (the order of a maximum changes nothing),
@@ -292,8 +301,8 @@ void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
   while (lead + 1 < azimuths && !(lean[lead] == top)) ++lead;
   std::size_t first = 0;
   double first_pace = step.x();
-  for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
-    const double pace = scratch.ring_cos[r] * step.x() + scratch.ring_sin[r] * top;
+  for (std::size_t r = 0; r < scratch.layout.ring_cos.size(); ++r) {
+    const double pace = scratch.layout.ring_cos[r] * step.x() + scratch.layout.ring_sin[r] * top;
     if (pace > first_pace) {
       first = 1 + r * azimuths + lead;
       first_pace = pace;
@@ -314,9 +323,9 @@ void cast_one_target(const Vec3& step, double range, ConeScratch& scratch,
   };
   visit(0, step.x());
   const std::size_t half = azimuths / 2;
-  for (std::size_t r = 0; r < scratch.ring_cos.size(); ++r) {
-    const double along = scratch.ring_cos[r] * step.x();
-    const double across = scratch.ring_sin[r];
+  for (std::size_t r = 0; r < scratch.layout.ring_cos.size(); ++r) {
+    const double along = scratch.layout.ring_cos[r] * step.x();
+    const double across = scratch.layout.ring_sin[r];
     if (!((along + across * top) * limit >= 1.0)) continue;  // not even the leading ray
     const std::size_t ring = 1 + r * azimuths;
     const auto walk = [&](std::size_t j) {  // false: none farther on this side may hit
