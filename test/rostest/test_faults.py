@@ -21,6 +21,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, Range
 from std_msgs.msg import UInt8MultiArray
 
+from epuck_vrep_compat.compat.topics import NODE
 from epuck_vrep_compat.experiment.isolation import free_port
 from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_for_message
 
@@ -149,9 +150,15 @@ class Faults(unittest.TestCase):
         env = dict(os.environ, ROS_MASTER_URI=uri, PYTHONFAULTHANDLER="1")
         sim = subprocess.Popen(["rosrun", "epuck_vrep_compat", "epuck_sim", "_n:=1"], env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        master = rosgraph.Master("/probe", master_uri=uri)     # up: its services are there
-        self._until(lambda: master.lookupService("/vrep/simRosGetObjectHandle"),
-                    "simulator up")
+        master = rosgraph.Master("/probe", master_uri=uri)
+
+        def up():
+            # its services are there, registered by this process: a simulator that exited
+            # when the master restarted may have registered again with the new master first
+            master.lookupService("/vrep/simRosGetObjectHandle")
+            node = xmlrpc.client.ServerProxy(master.lookupNode(NODE))
+            return node.getPid("/probe")[2] == sim.pid
+        self._until(up, "simulator up")
         return sim
 
     @staticmethod
