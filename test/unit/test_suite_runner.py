@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import textwrap
+import time
 
 import pytest
 
@@ -68,7 +69,11 @@ def test_a_hung_job_is_stopped_with_its_whole_group(tmp_path, monkeypatch):
                    str(tmp_path))
     ended = scheduler.run([job], str(tmp_path), 2, lambda s: None)
     assert ended[0].status == "hung" and not ended[0].passed
-    assert gone(int(marker.read_text()))
+    child = int(marker.read_text())
+    deadline = time.monotonic() + 10.0      # SIGKILL is delivered, not awaited, by killpg
+    while not gone(child) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert gone(child)
 
 
 def gone(pid):

@@ -3,7 +3,7 @@ into jobs, and what each job is expected to run.
 
 Tiers, in the order they are listed: core and unit (pytest, spread over the cores with
 pytest-xdist, a file to a worker), install (``catkin_make install``, then pytest), core_cpp
-(one job per gtest binary), experiment (one pytest job per file: each test starts its own
+(one job per gtest binary), experiment (one pytest job per test: each starts its own
 masters, Dask and launch trees, and waits on them), rostest (one job per .test file: rostest
 starts a master of its own on a free port; the job gets its own ROS_HOME and log folder).
 A rostest file that needs the machine to itself says so with ``<!-- suite: alone -->``.
@@ -101,6 +101,7 @@ class Plan:
                     'catkin_make -C .ws install > "$0" 2>&1 || { tail -n 40 "$0"; '
                     'echo "test: catkin_make install failed"; exit 1; }; exec "$@"',
                     build_log] + job.argv
+        job.extra_env["ROS_LANG_DISABLE"] = "genlisp"      # as tools/setup builds
         self.jobs.append(job)
 
     def _plan_core_cpp(self, paths):
@@ -115,14 +116,16 @@ class Plan:
             self.jobs.append(Job("core_cpp", f"gtest-{name}", argv, self.results, files=[source]))
 
     def _plan_experiment(self, paths):
-        by_file = {}
+        """A job per test: each starts its own masters, launch trees and Dask cluster, and
+        the tier's largest tests take minutes each, so a file per job would leave a core idle
+        at the end while one file's tests ran one after another."""
         for path in paths:
-            by_file.setdefault(path.split("::")[0], []).append(path)
-        for file, targets in sorted(by_file.items()):
-            stem = os.path.basename(file)[:-len(".py")]
-            whole = file in targets
-            self.jobs.append(self._pytest("experiment", f"pytest-experiment-{stem}",
-                                          [file] if whole else sorted(targets)))
+            targets = [path] if "::" in path else module_tests(self.repo, path) or [path]
+            for target in targets:
+                file, _, test = target.partition("::")
+                name = "pytest-experiment-" + os.path.basename(file)[:-len(".py")]
+                self.jobs.append(self._pytest("experiment", name + (f"-{test}" if test else ""),
+                                              [target]))
 
     def _plan_rostest(self, paths):
         for launch in paths:
@@ -135,6 +138,12 @@ class Plan:
                 alone = bool(ALONE_MARK.search(f.read()))
             self.jobs.append(Job("rostest", f"rostest-{name}", argv, self.results,
                                  files=[launch], alone=alone))
+
+
+def module_tests(repo, path):
+    """``file::test`` for each test function defined at the top of a test file."""
+    with open(os.path.join(repo, path), encoding="utf-8") as f:
+        return [f"{path}::{name}" for name in re.findall(r"^def (test_\w+)\(", f.read(), re.M)]
 
 
 def whole_files_first(paths):

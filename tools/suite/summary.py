@@ -100,7 +100,7 @@ def main(repo, results, say=print):
                           os.path.join(results, "rostest", "epuck_vrep_compat",
                                        f"rosunit-{test_name}.xml"), want)
         else:
-            label = tier if name == f"pytest-{tier}" else f"{tier} {name[len('pytest-'):]}"
+            label = name[len("pytest-"):]
             tally.add(label, os.path.join(results, f"{name}.xml"),
                       pytest_collected(results, name))
     say(f"total: {tally.passed} passed, {tally.failed} failed")

@@ -83,10 +83,13 @@ def write(results, jobs, cores, wall_s, stress):
         t["cpu_s"] += job.cpu_s
         t["start"] = min(t["start"], job.started)
         t["end"] = max(t["end"], job.ended)
-    files = []
+    per_file = {}
     for job in jobs:
-        files += [(f, job.tier, w, c) for f, (w, c) in file_times(job, results).items()]
-    files.sort(key=lambda row: -row[2])
+        for file, (wall, cpu) in file_times(job, results).items():
+            total = per_file.setdefault(file, [job.tier, 0.0, 0.0])
+            total[1] += wall
+            total[2] += cpu
+    files = sorted(((f, t, w, c) for f, (t, w, c) in per_file.items()), key=lambda r: -r[2])
     cpu_s = sum(j.cpu_s for j in jobs)
     head = (f"{time.strftime('%Y-%m-%d %H:%M %Z')}, {os.cpu_count()} cores ({processor()}), "
             f"{cores} used; stress hog: {'yes' if stress else 'no'}")
