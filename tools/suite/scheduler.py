@@ -9,6 +9,8 @@ fails: the run ends instead of hanging."""
 import re
 import time
 
+from suite import jobs as jobs_module
+
 OVERCOMMIT = 1.25
 HANG_S = 1800.0
 POLL_S = 0.2
@@ -60,4 +62,7 @@ def run(jobs, cwd, cores, say=print):
         for job in running:
             job.stop()
         raise
+    finally:
+        time.sleep(POLL_S)        # a process killed with its group is gone a moment later
+        jobs_module.sweep_accounts()
     return ended
