@@ -105,7 +105,9 @@ def test_cpu_time_counts_a_process_its_parent_left_behind(tmp_path):
     """A master that roslaunch leaves to init still ran for the job: counted when the runner
     may make a cpuacct group (root here and in CI), else not (wait4 cannot see it)."""
     burn = f"{sys.executable} -c 'import time; t = time.process_time()\nwhile time.process_time() - t < 0.5: pass'"
-    job = jobs.Job("unit", "orphan", ["/bin/sh", "-c", f"({burn}) & sleep 1.5; exit 0"],
+    done = tmp_path / "burnt"
+    job = jobs.Job("unit", "orphan", ["/bin/sh", "-c", f"({burn}; touch {done}) & "
+                                      f"while [ ! -e {done} ]; do sleep 0.05; done; exit 0"],
                    str(tmp_path))
     scheduler.run([job], str(tmp_path), 2, lambda s: None)
     counted = jobs.CpuAccount("probe")
