@@ -184,8 +184,8 @@ def test_a_rostest_that_ran_fewer_tests_than_it_defines_fails(tmp_path):
     (tmp_path / "test/rostest/client.py").write_text(
         "class T:\n    def test_a(self):\n        pass\n    def test_b(self):\n        pass\n")
     results = tmp_path / "results"
-    os.makedirs(results / "rostest" / "epuck_vrep_compat")
-    (results / "rostest/epuck_vrep_compat/rosunit-client.xml").write_text(
+    os.makedirs(results / "rostest" / "x" / "epuck_vrep_compat")
+    (results / "rostest/x/epuck_vrep_compat/rosunit-client.xml").write_text(
         '<testsuite><testcase name="test_a"/></testsuite>')
     job = jobs.Job("rostest", "rostest-x", ["true"], str(results), files=["test/rostest/x.test"])
     summary.write_selection(str(results), [job])

@@ -132,12 +132,19 @@ class Plan:
             name = os.path.basename(launch)[:-len(".test")]
             if not matches_k(self.k, name):
                 continue
-            argv = ["rostest", f"--results-base-dir={os.path.join(self.results, 'rostest')}",
+            # results apart per file: rostest removes a test's old result file by its
+            # test-name before it runs it, and two files may use one name (hz_imu)
+            argv = ["rostest", f"--results-base-dir={rostest_results(self.results, name)}",
                     "epuck_vrep_compat", os.path.basename(launch)]
             with open(os.path.join(self.repo, launch), encoding="utf-8") as f:
                 alone = bool(ALONE_MARK.search(f.read()))
             self.jobs.append(Job("rostest", f"rostest-{name}", argv, self.results,
                                  files=[launch], alone=alone))
+
+
+def rostest_results(results, name):
+    """The folder a rostest file's results go to (rostest adds <package>/rosunit-<test>.xml)."""
+    return os.path.join(results, "rostest", name)
 
 
 def module_tests(repo, path):

@@ -14,6 +14,8 @@ import os
 import re
 import xml.etree.ElementTree as ET
 
+from suite import plan
+
 
 def junit_counts(path):
     """(tests, failures, skipped) of one JUnit XML file, counted from its test cases."""
@@ -59,6 +61,10 @@ def rostest_cases(repo, launch):
     return cases
 
 
+def launch_name(launch):
+    return os.path.basename(launch)[:-len(".test")]
+
+
 class Tally:
     """Passed and failed over every job; ``ok`` while each ran all it defines, none failed
     or skipped."""
@@ -97,8 +103,8 @@ def main(repo, results, say=print):
             launch = job["files"][0]
             for test_name, want in rostest_cases(repo, launch):
                 tally.add(f"rostest {os.path.basename(launch)} {test_name}",
-                          os.path.join(results, "rostest", "epuck_vrep_compat",
-                                       f"rosunit-{test_name}.xml"), want)
+                          os.path.join(plan.rostest_results(results, launch_name(launch)),
+                                       "epuck_vrep_compat", f"rosunit-{test_name}.xml"), want)
         else:
             label = name[len("pytest-"):]
             tally.add(label, os.path.join(results, f"{name}.xml"),
