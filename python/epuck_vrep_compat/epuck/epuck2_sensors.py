@@ -25,12 +25,14 @@ on nothing but its own number and the frame, the same seed gives the same run, a
 added or removed changes nothing. The time-of-flight noise has its own stream per robot in the
 core. Both seeds come from the builder, derived from the simulation's by name.
 """
+import math
 from dataclasses import dataclass, field
 from typing import Tuple
 
 import numpy as np
 
 from epuck_vrep_compat import TofSensorArray
+from epuck_vrep_compat.geometry.fixed_order import libm
 from epuck_vrep_compat.sim.extension import SimulationExtension
 from epuck_vrep_compat.scene.floor_regions import floor_rgb
 
@@ -72,8 +74,8 @@ def hashed_normals(seed: int, robot_ids, frame: int, count: int) -> np.ndarray:
         cols = np.arange(2 * count, dtype=np.uint64)
         bits = _mix(key[:, None] + cols[None, :] * np.uint64(0x9E3779B97F4A7C15))
     u = ((bits >> np.uint64(11)).astype(np.float64) + 1.0) * 2.0 ** -53   # (0, 1]
-    u1, u2 = u[:, :count], u[:, count:]
-    return np.sqrt(-2.0 * np.log(u1)) * np.cos(2.0 * np.pi * u2)
+    u1, u2 = u[:, :count], u[:, count:]      # the C library's log and cos: any processor's
+    return np.sqrt(-2.0 * libm(math.log, u1)) * libm(math.cos, 2.0 * np.pi * u2)
 
 
 class Epuck2Sensors(SimulationExtension):
@@ -113,10 +115,9 @@ class Epuck2Sensors(SimulationExtension):
         if self._tof is not None:
             self.tof_m = self._tof.read(sim.world, poses, [int(h) for h in swarm.handles],
                                         list(swarm.stream_ids), noise)
-        # contiguous: numpy takes its vector sin/cos for a strided column only when the
-        # result happens to lie far enough from it in memory, libm's otherwise (1 ulp apart)
-        yaw = np.ascontiguousarray(poses[:, 2])
-        c, sn = np.cos(yaw), np.sin(yaw)
+        # the C library's sin/cos: numpy's own (SVML on AVX-512) depend on the processor and,
+        # for a strided column, on where the result lies in memory (1 ulp apart)
+        c, sn = libm(math.cos, poses[:, 2]), libm(math.sin, poses[:, 2])
         if "mag_field" in wanted:
             self.mag_tesla = self._magnetometer(c, sn, noise)
         if "battery" in wanted:

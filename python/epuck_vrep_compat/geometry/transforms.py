@@ -121,15 +121,18 @@ def normalized_quat(q):
 
 def vrep_euler_angles(quat):
     """V-REP's Euler angles (alpha, beta, gamma) of a quaternion (x, y, z, w): the rotation is
-    Rx(alpha) Ry(beta) Rz(gamma), as simGetObjectOrientation reports it."""
+    Rx(alpha) Ry(beta) Rz(gamma), as simGetObjectOrientation reports it. beta is
+    ``atan2(r02, hypot(r12, r22))`` (asin of r02 loses half the digits near +-pi/2); below a
+    cos(beta) of 1e-6 (gimbal lock) all of the z rotation goes into alpha."""
     x, y, z, w = (float(v) for v in quat)
     r02 = 2.0 * (x * z + w * y)
     r12 = 2.0 * (y * z - w * x)
     r22 = 1.0 - 2.0 * (x * x + y * y)
     r01 = 2.0 * (x * y - w * z)
     r00 = 1.0 - 2.0 * (y * y + z * z)
-    beta = math.asin(max(-1.0, min(1.0, r02)))
-    if abs(r02) > 1.0 - 1e-12:        # gimbal lock: put all of the z rotation into alpha
+    cos_beta = math.hypot(r12, r22)
+    beta = math.atan2(r02, cos_beta)
+    if cos_beta < 1e-6:               # gimbal lock: put all of the z rotation into alpha
         r21 = 2.0 * (y * z + w * x)
         r11 = 1.0 - 2.0 * (x * x + z * z)
         return [math.atan2(r21, r11), beta, 0.0]

@@ -17,11 +17,13 @@ In the single-robot environments the first learning robot is the agent and the o
 scripted (the Braitenberg avoider, :func:`epuck_vrep_compat.policy.controller.braitenberg`);
 in the PettingZoo environment every robot but the leader is an agent.
 """
+import math
 from dataclasses import dataclass
 from typing import List, Tuple
 
 import numpy as np
 
+from epuck_vrep_compat.geometry.fixed_order import libm
 from epuck_vrep_compat.policy.observation import CAMERA_BINS, ObservationLayout
 from epuck_vrep_compat.scene.scene_file import Arena, Obstacle
 
@@ -99,7 +101,7 @@ class Task:
             mean = distances.sum(axis=-1) / max(self.robots - 1, 1)
             return 1.0 - np.minimum(1.0, mean / ARENA_SIDE_M)
         d = distances[..., 0]
-        return (np.exp(-np.square((d - FOLLOW_DISTANCE_M) / FOLLOW_WIDTH_M))
+        return (libm(math.exp, -np.square((d - FOLLOW_DISTANCE_M) / FOLLOW_WIDTH_M))
                 - contact.astype(float))
 
 

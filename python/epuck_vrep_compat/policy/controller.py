@@ -19,10 +19,12 @@ the weights were made for (a file without the camera keys, written before the ca
 existed, has no camera block).
 """
 import json
+import math
 from typing import Optional
 
 import numpy as np
 
+from epuck_vrep_compat.geometry.fixed_order import libm, weighted_sums
 from epuck_vrep_compat.policy.observation import IR_COUNT, ObservationLayout
 
 FORMAT = "epuck_vrep_compat/perceptron-1"
@@ -35,7 +37,9 @@ _CRUISE = 0.5
 
 
 class Perceptron:
-    """wheels = tanh(W @ obs + b): obs (..., D) -> (..., 2) in [-1, 1]."""
+    """wheels = tanh(W @ obs + b): obs (..., D) -> (..., 2) in [-1, 1]; the same bits for one
+    observation alone and in a batch, on any processor (W @ obs added in a fixed order, tanh
+    the C library's: :mod:`epuck_vrep_compat.geometry.fixed_order`)."""
 
     def __init__(self, weights, bias, layout: ObservationLayout, meta: Optional[dict] = None):
         self.weights = np.asarray(weights, dtype=float).reshape(2, -1)
@@ -62,8 +66,7 @@ class Perceptron:
         return np.concatenate([self.weights.ravel(), self.bias])
 
     def __call__(self, observation) -> np.ndarray:
-        obs = np.asarray(observation, dtype=float)
-        return np.tanh(obs @ self.weights.T + self.bias)
+        return libm(math.tanh, weighted_sums(observation, self.weights) + self.bias)
 
     def save(self, path: str):
         data = {"format": FORMAT, "observation": self.layout.to_dict(),

@@ -40,7 +40,7 @@ GYRO_UNIT_RAD_S = 5.0
 IMU_CLIP = 4.0
 IMU_NAMES = ("accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z")
 CAMERA_BINS = 16
-LUMA_BT601 = np.array([0.299, 0.587, 0.114])
+LUMA_BT601 = (0.299, 0.587, 0.114)
 ENCODING_CHANNELS = {"rgb8": 3, "mono8": 1}
 
 
@@ -128,31 +128,43 @@ def image_from_buffer(data, width: int, height: int, step: int, encoding: str) -
 
 def gray_levels(image) -> np.ndarray:
     """mono8 (..., H, W) or rgb8 (..., H, W, 3) uint8 images -> their mono8 levels (..., H, W)
-    as float: an rgb8 pixel's rounded BT.601 luma, as the drivers' gray mode makes it."""
+    as float: an rgb8 pixel's rounded BT.601 luma, as the drivers' gray mode makes it, written
+    out ``(0.299 R + 0.587 G) + 0.114 B`` element by element (a matrix product's order, and so
+    its rounding at a half, would follow numpy's kernel: the processor and the layout)."""
     image = np.asarray(image)
     if image.ndim >= 3 and image.shape[-1] == 3:
-        return np.rint(image @ LUMA_BT601).clip(0, 255)
+        (kr, kg, kb), rgb = LUMA_BT601, image.astype(float)
+        return np.rint(kr * rgb[..., 0] + kg * rgb[..., 1] + kb * rgb[..., 2]).clip(0, 255)
     return image.astype(float)
+
+
+def bin_overlaps(width: int, bins: int) -> np.ndarray:
+    """(width, bins) integers: pixel column j's overlap with bin k in units of 1 / bins of a
+    pixel (column j is [j bins, (j + 1) bins), bin k [k width, (k + 1) width) in those units);
+    every bin's column sums to ``width``."""
+    column = np.arange(width, dtype=np.int64)[:, None] * bins
+    start = np.arange(bins, dtype=np.int64)[None, :] * width
+    return np.clip(np.minimum(column + bins, start + width) - np.maximum(column, start), 0, None)
 
 
 def bin_weights(width: int, bins: int) -> np.ndarray:
     """(width, bins): the share of pixel column j in bin k (bins of equal width, each column
     the interval [j, j + 1)); every column of the matrix sums to 1."""
-    edges = np.arange(bins + 1) * (width / bins)
-    left, right = np.arange(width)[:, None], np.arange(1, width + 1)[:, None]
-    overlap = np.minimum(right, edges[None, 1:]) - np.maximum(left, edges[None, :-1])
-    return np.clip(overlap, 0.0, None) / (width / bins)
+    return bin_overlaps(width, bins) / width
 
 
 def camera_row(image, bins: int = CAMERA_BINS) -> np.ndarray:
     """The camera block (..., bins) in [0, 1] of images (..., H, W, 3) rgb8 or (..., H, W)
     mono8 (a batch: leading axes; rgb8 needs its last axis of 3): the middle row (the two
-    middle rows' mean for an even H) in gray levels / 255, averaged into ``bins`` bins."""
-    gray = gray_levels(image)
+    middle rows' mean for an even H) in gray levels / 255, averaged into ``bins`` bins.
+
+    Exact: each bin is an integer sum (the gray levels of the middle rows, each weighted by
+    its integer overlap, :func:`bin_overlaps`) divided once, so a value is the same bits for
+    an image alone and in a batch, on any processor."""
+    gray = gray_levels(image).astype(np.int64)
     height, width = gray.shape[-2:]
-    middle = slice((height - 1) // 2, height // 2 + 1)
-    row = gray[..., middle, :].mean(axis=-2) / 255.0
-    return np.clip(row @ bin_weights(width, bins), 0.0, 1.0)     # (a bin's sum may round)
+    rows = gray[..., (height - 1) // 2, :] + gray[..., height // 2, :]   # an odd H: twice
+    return (rows @ bin_overlaps(width, bins)) / (2 * 255 * width)      # integers: exact
 
 
 def build(layout: ObservationLayout, ranges_m, accel_m_s2=None, gyro_rad_s=None,
