@@ -195,6 +195,16 @@ def test_a_rostest_that_ran_fewer_tests_than_it_defines_fails(tmp_path):
     assert said[-1] == "total: 1 passed, 1 failed"
 
 
+def test_an_empty_result_file_counts_as_nothing_run(tmp_path):
+    (tmp_path / "gtest-core_cpp_r_x_test.xml").write_text("")
+    os.makedirs(tmp_path / "test/core_cpp/r")
+    (tmp_path / "test/core_cpp/r/x_test.cpp").write_text("TEST(A, b) {}\n")
+    job = jobs.Job("core_cpp", "gtest-core_cpp_r_x_test", ["true"], str(tmp_path),
+                   files=["test/core_cpp/r/x_test.cpp"])
+    summary.write_selection(str(tmp_path), [job])
+    assert summarise(tmp_path, tmp_path) == (1, "total: 0 passed, 1 failed")
+
+
 def test_the_timing_table_lists_tiers_and_the_slowest_files(tmp_path):
     batch = [sleeper(tmp_path, "slow", 0.5), sleeper(tmp_path, "fast", 0.1)]
     for job, name in zip(batch, ("test/rostest/slow.test", "test/rostest/fast.test")):
