@@ -39,6 +39,11 @@ OPERATOR_RADIUS_M = 0.2
 OPERATOR_SPEED_M_S = 1.2
 OPERATOR_HEIGHT_M = 1.3 + 2 * 0.11
 TABLE_TOP_Z = 0.75
+STEP_S = 0.05                      # the cell's simulation step (merlin_cell.launch)
+NODE_HZ = 20.0                     # the thesis nodes' loops and the simulator's joint states
+LASER_HZ = 10.0
+RATE_STEPS = 80                    # 4 s of simulated time, stepped in lock-step
+STEP_ANSWER_TIMEOUT_S = 30.0       # wall time a step's messages may take: liveness only
 FLOATS = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
                    st.sampled_from([0.0, -0.0, 1e308, -1e308, 5e-324, 0.5, -0.3]))
 JOINT_NAMES = st.sampled_from(["IRB140_joint1", "IRB140_joint6", "SIX_joint7", "youBot",
@@ -91,22 +96,58 @@ class MerlinCell(unittest.TestCase):
         while not all(n[0] for n in counts.values()) and time.monotonic() < deadline:
             time.sleep(0.05)
         self.assertEqual([t for t, n in counts.items() if not n[0]], [], "silent topics")
-        start = sim_time_now()
-        first = {t: n[0] for t, n in counts.items()}
-        wait_sim_time(4.0)
-        elapsed = sim_time_now() - start
-        rates = {t: (n[0] - first[t]) / elapsed for t, n in counts.items()}
-        for sub in subscribers:
-            sub.unregister()
         published = dict(rospy.get_published_topics())
         for topic, msg_class in topics.items():
             self.assertEqual(published.get(topic), msg_class._type, topic)
+        # counted in lock-step, so that no node's lateness under load shows as a lower rate:
+        # the simulation paused, each step taken only once every per-step topic (the
+        # simulator's joint states, the nodes' 20 Hz loops) has answered the one before
+        from std_srvs.srv import Empty      # here, not above: the set-up's imports are shared
+        from epuck_vrep_compat.srv import StepSimulation
+        per_step = [t for t in topics if t != "/vrep/front_scan" and not t.endswith("Handles")]
+        step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
+        rospy.ServiceProxy("/vrep/pause", Empty)()
+        try:
+            self._steps_answered(step, counts, per_step, 2)   # nodes still busy at the pause
+            first = {t: n[0] for t, n in counts.items()}
+            start = step(0).sim_time
+            elapsed = self._steps_answered(step, counts, per_step, RATE_STEPS) - start
+            # the laser's scans come with their steps; wait for the last ones to arrive
+            self._until_counted(counts, {"/vrep/front_scan": first["/vrep/front_scan"]
+                                         + LASER_HZ * elapsed - 1})
+        finally:
+            rospy.ServiceProxy("/vrep/unpause", Empty)()
+            step.close()
+            for sub in subscribers:
+                sub.unregister()
+        rates = {t: (n[0] - first[t]) / elapsed for t, n in counts.items()}
         # every sensor topic within 10 % of its nominal rate in simulated time: the laser's
         # 10 Hz, the simulator's per-step joint states and the nodes' 20 Hz loops
-        self.assertAlmostEqual(rates["/vrep/front_scan"], 10.0, delta=1.0)
-        for topic, rate in rates.items():
-            if topic != "/vrep/front_scan" and not topic.endswith("Handles"):
-                self.assertAlmostEqual(rate, 20.0, delta=2.0, msg=topic)
+        self.assertAlmostEqual(elapsed, RATE_STEPS * STEP_S, delta=1e-6)
+        self.assertAlmostEqual(rates["/vrep/front_scan"], LASER_HZ, delta=0.1 * LASER_HZ)
+        for topic in per_step:
+            self.assertAlmostEqual(rates[topic], NODE_HZ, delta=0.1 * NODE_HZ, msg=topic)
+
+    def _steps_answered(self, step, counts, topics, steps):
+        """``steps`` steps of the paused simulation, each once every topic has a message more
+        than before it; the simulated time after the last."""
+        for _ in range(steps):
+            wanted = {t: counts[t][0] + 1 for t in topics}
+            result = step(1)
+            self.assertTrue(result.success, result.message)
+            self._until_counted(counts, wanted)
+        return result.sim_time
+
+    @staticmethod
+    def _until_counted(counts, wanted):
+        """Until each topic's count reaches its wanted number (a wait for messages that must
+        come, bounded generously: never a measure of speed)."""
+        deadline = time.monotonic() + STEP_ANSWER_TIMEOUT_S
+        while any(counts[t][0] < n for t, n in wanted.items()):
+            if time.monotonic() > deadline:
+                raise AssertionError(f"no answer within {STEP_ANSWER_TIMEOUT_S} s from "
+                                     f"{[t for t, n in wanted.items() if counts[t][0] < n]}")
+            time.sleep(0.005)
 
     def test_02_hub_handles_are_the_objects(self):
         irb = rospy.wait_for_message("/IrbHandles", IrbMsg, timeout=30)
@@ -424,11 +465,14 @@ class MerlinCell(unittest.TestCase):
                             "irb140.urdf")
         limit = {j.name: j.limits.velocity for j in load_urdf_chain(path).joints
                  if j.limits is not None}["IRB140_joint1"]
+        # every joint state from the command's first step on (the joint may reach its position
+        # limit soon after, so none may be missed however late this client is)
+        arm = Collector("/IRB140/joint_states", JointState)
+        arm.wait(1)
         self.fuzz_arm.publish(JointState(name=["IRB140_joint1"], velocity=[1e308]))
         self.fuzz_base.publish(Twist(linear=Vector3(1e308, 0.0, 0.0)))
         wait_sim_time(0.5)
         p0, _ = pose(handle("youBot"))
-        arm = Collector("/IRB140/joint_states", JointState)
         t0 = sim_time_now()
         wait_sim_time(1.0)
         p1, _ = pose(handle("youBot"))

@@ -20,6 +20,10 @@ from sim_test_helpers import PKG, Collector, RosoutGuard, wait_for_message, wait
 
 FLOATS = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
                    st.sampled_from([0.0, -0.0, 1e308, -1e308, 5e-324, 0.05, -0.12]))
+RTF_WINDOW_S = 20.0               # wall time over which the real-time factor is measured
+LATE_WARNING = "behind real time"   # the simulator's warning when it drops time it lost
+LATE_WARN_PERIOD_S = 5.0          # that warning's throttle (ros/common/log.py WARN_PERIOD_S)
+LATE_WARN_GRACE_S = 2.0           # wall time for a warning logged at the window's end to come
 
 
 def twist_of(v):
@@ -54,11 +58,19 @@ class Robustness(unittest.TestCase):
             self.assertTrue(all(math.isfinite(v) for v in (p.x, p.y, t.linear.x, t.angular.z)))
 
     def test_a_real_time_factor_held(self):
+        first_warning = len(self.guard.warnings)
+        time.sleep(LATE_WARN_PERIOD_S)          # a lateness warned before this hides none after
         sim0, wall0 = rospy.get_rostime().to_sec(), time.monotonic()
-        time.sleep(20.0)
+        time.sleep(RTF_WINDOW_S)
         rtf = (rospy.get_rostime().to_sec() - sim0) / (time.monotonic() - wall0)
-        self.assertGreater(rtf, 0.95)
-        self.assertLess(rtf, 1.05)
+        self.assertLess(rtf, 1.05)              # never ahead of real time, whatever the load
+        # behind it only when the simulator says so: it drops a lateness beyond 0.5 s with a
+        # warning (a neighbour took the processor), and catches up a smaller one
+        wait_sim_time(1.0)                      # the step under way at the end has ended
+        time.sleep(LATE_WARN_GRACE_S)           # and its warning has come
+        late = [w for w in self.guard.warnings[first_warning:] if LATE_WARNING in w]
+        if not late:
+            self.assertGreater(rtf, 0.95)
 
     def test_b_reset_twenty_times_during_motion(self):
         reset = rospy.ServiceProxy("/vrep/reset", Empty)
