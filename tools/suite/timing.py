@@ -69,7 +69,13 @@ def remember_costs(repo, jobs):
         pass
     costs.update({j.name: [round(j.elapsed_s, 1), round(j.cpu_s, 1)] for j in jobs if j.passed})
     with open(path, "w", encoding="utf-8") as f:
-        json.dump(costs, f, indent=1, sort_keys=True)
+        f.write(costs_json(costs))
+
+
+def costs_json(costs):
+    """One job a line, as tools/suite/costs.json is kept (copy .ws/suite_costs.json there)."""
+    lines = [f' "{name}": [{wall}, {cpu}]' for name, (wall, cpu) in sorted(costs.items())]
+    return "{\n" + ",\n".join(lines) + "\n}\n"
 
 
 def write(results, jobs, cores, wall_s, stress):
