@@ -13,8 +13,8 @@ import time
 import pytest
 
 from epuck_vrep_compat.experiment.isolation import free_port
+from repo import REPO
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 INSTALL = os.path.join(REPO, ".ws", "install")
 SETUP = os.path.join(INSTALL, "local_setup.bash")
 PKG = "epuck_vrep_compat"

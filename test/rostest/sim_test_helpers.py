@@ -1,10 +1,17 @@
-"""Helpers shared by the rostest clients: waiting for messages, the /rosout guard."""
+"""Helpers shared by the rostest clients: waiting for messages, the /rosout guard.
+
+rostest runs each client as a script (its folder on ``sys.path``); importing this module also
+puts ``test/`` there, for what every tier shares (``from repo import REPO``)."""
+import os
+import sys
 import threading
 import time
 
 import rosgraph.masterapi
 import rospy
 from rosgraph_msgs.msg import Log
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
 
 PKG = "epuck_vrep_compat"
 

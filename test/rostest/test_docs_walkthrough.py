@@ -23,9 +23,8 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 
 from sim_test_helpers import PKG, Collector, RosoutGuard, wait_for_message, wait_sim_time
+from repo import REPO  # test/ on the path: sim_test_helpers  # isort: skip
 
-# the checkout itself (the workspace's package folder links to it, without tools/)
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "tools"))
 import doc_commands as docs  # noqa: E402
 

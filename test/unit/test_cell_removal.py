@@ -12,8 +12,7 @@ from epuck_vrep_compat.scene.model_files import ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
+from repo import REPO
 
 
 @pytest.fixture

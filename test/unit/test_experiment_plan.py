@@ -13,8 +13,8 @@ import yaml
 
 from epuck_vrep_compat.experiment import launch_files, plan, spec
 from epuck_vrep_compat.experiment.spec_checks import Lines
+from repo import REPO
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FIXTURES = os.path.join(REPO, "test", "experiment_fixtures")
 EPUCKS = os.path.join(REPO, "launch", "epucks.launch")
 with open(os.path.join(FIXTURES, "valid.yaml"), encoding="utf-8") as _f:

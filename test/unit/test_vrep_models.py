@@ -10,8 +10,8 @@ from epuck_vrep_compat.scene.model_files import ModelFileError, ModelLibrary
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
+from repo import REPO
 
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 MODELS = os.path.join(REPO, "models")
 EPUCK_YAML = os.path.abspath(os.path.join(MODELS, "ePuck.yaml"))
 
