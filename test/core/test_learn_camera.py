@@ -19,8 +19,8 @@ from epuck_vrep_compat.learn import tasks
 from epuck_vrep_compat.learn.worlds import Worlds
 from epuck_vrep_compat.policy.observation import ObservationLayout, camera_row
 from epuck_vrep_compat.scene.scene_file import load_scene
+from repo import REPO
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LEARN_ARENA = os.path.join(REPO, "worlds", "learn_arena.yaml")
 # the drivers' default camera: 160 x 2 rows of the 640 x 480 sensor at zoom 1
 # (ros/node/params.py's slice_fov of the e-puck's 0.84 rad)

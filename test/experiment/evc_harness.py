@@ -16,9 +16,9 @@ import time
 
 import pyarrow.parquet as pq
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-FIXTURES = os.path.join(HERE, "fixtures")
+from repo import fixtures_of
+
+FIXTURES = fixtures_of("experiment")
 TOKEN = "EVC_TEST_TOKEN"
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 CLI_TIMEOUT_S = 900             # only against hanging forever; never an assertion of speed

@@ -7,8 +7,9 @@ import shutil
 import signal
 
 import evc_harness as h
+from repo import REPO
 
-DASK = os.path.join(h.REPO, ".venv", "bin", "dask")
+DASK = os.path.join(REPO, ".venv", "bin", "dask")
 START_GUARD_S = 300             # for the first run to get under way; only against hanging
 # once the CLI has exited, its marked processes are already ended (SIGKILL at the latest);
 # the grace covers only the kernel finishing a killed process, never a measure of speed

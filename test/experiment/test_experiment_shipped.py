@@ -5,8 +5,9 @@ import math
 import os
 
 import evc_harness as h
+from repo import REPO
 
-EXPERIMENTS = os.path.join(h.REPO, "experiments")
+EXPERIMENTS = os.path.join(REPO, "experiments")
 
 
 def run_shipped(tmp_path, name, seeds, workers=2):

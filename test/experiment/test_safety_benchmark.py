@@ -11,8 +11,9 @@ import yaml
 
 import evc_harness as h
 from epuck_vrep_compat.experiment import coverage_maps
+from repo import REPO
 
-EXPERIMENTS = os.path.join(h.REPO, "experiments")
+EXPERIMENTS = os.path.join(REPO, "experiments")
 
 
 def test_every_cell_one_walk_and_the_report(tmp_path):

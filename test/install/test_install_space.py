@@ -2,103 +2,17 @@
 `.ws/install/local_setup.bash` (Debian's ROS under /usr needs no sourcing) both launch files come
 up and publish, the thesis's nodes run, every installed node starts, and bag_to_csv converts a
 bag. Each test runs its commands in a clean environment (env -i) on a private ROS master, so
-nothing of the source tree or the devel space can stand in for a missing installed file."""
+nothing of the source tree or the devel space can stand in for a missing installed file
+(``install_env`` and ``install_space``: conftest.py)."""
 import ast
 import os
-import signal
-import subprocess
-import tempfile
-import time
 
-import pytest
+from repo import REPO
 
-from epuck_vrep_compat.experiment.isolation import free_port
-
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-INSTALL = os.path.join(REPO, ".ws", "install")
-SETUP = os.path.join(INSTALL, "local_setup.bash")
 PKG = "epuck_vrep_compat"
 
 
-class InstallEnv:
-    """Commands run through bash with only the install space sourced, on a private master."""
-
-    def __init__(self, tmp):
-        self.port = free_port()
-        self.tmp = tmp
-        self.env = {
-            "HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin", "LANG": "C.UTF-8",
-            "ROS_HOME": os.path.join(tmp, "ros_home"), "ROS_LOG_DIR": os.path.join(tmp, "log"),
-        }
-        self.launches = []
-
-    def _script(self, command):
-        return (f"set -e; source {SETUP}; "
-                f"export ROS_MASTER_URI=http://127.0.0.1:{self.port}; {command}")
-
-    def run(self, command, timeout=60):
-        return subprocess.run(["bash", "-c", self._script(command)], env=self.env, cwd=self.tmp,
-                              capture_output=True, text=True, timeout=timeout)
-
-    def launch(self, args):
-        log = open(os.path.join(self.tmp, f"launch{len(self.launches)}.log"), "w")
-        proc = subprocess.Popen(
-            ["bash", "-c", self._script(f"exec roslaunch -p {self.port} {args}")],
-            env=self.env, cwd=self.tmp, stdout=log, stderr=subprocess.STDOUT,
-            start_new_session=True)
-        self.launches.append((proc, log))
-        return proc
-
-    def wait_for_message(self, topic, timeout_s=90.0):
-        """The first message on a topic (rostopic echo), retried while the graph comes up."""
-        deadline = time.monotonic() + timeout_s
-        last = None
-        while time.monotonic() < deadline:
-            for proc, _ in self.launches:
-                assert proc.poll() is None, f"roslaunch ended with {proc.returncode}:\n" \
-                                            + self.logs()
-            try:
-                last = self.run(f"rostopic echo -n 1 --noarr {topic}", timeout=20)
-            except subprocess.TimeoutExpired:
-                continue
-            if last.returncode == 0 and last.stdout.strip():
-                return last.stdout
-            time.sleep(1.0)
-        raise AssertionError(f"no message on {topic} within {timeout_s} s: "
-                             f"{last.stderr if last else ''}\n{self.logs()}")
-
-    def logs(self):
-        text = []
-        for _, log in self.launches:
-            log.flush()
-            with open(log.name) as f:
-                text.append(f.read()[-3000:])
-        return "\n".join(text)
-
-    def close(self):
-        for proc, log in self.launches:
-            if proc.poll() is None:
-                os.killpg(proc.pid, signal.SIGINT)
-                try:
-                    proc.wait(timeout=20)
-                except subprocess.TimeoutExpired:
-                    os.killpg(proc.pid, signal.SIGKILL)
-                    proc.wait()
-            log.close()
-
-
-@pytest.fixture
-def install_env():
-    assert os.path.isfile(SETUP), f"no install space at {INSTALL}: run catkin_make install"
-    with tempfile.TemporaryDirectory() as tmp:
-        env = InstallEnv(tmp)
-        try:
-            yield env
-        finally:
-            env.close()
-
-
-def test_only_the_install_space_is_on_the_paths(install_env):
+def test_only_the_install_space_is_on_the_paths(install_space, install_env):
     out = install_env.run("echo $ROS_PACKAGE_PATH; echo $PYTHONPATH; rospack find "
                           f"{PKG}; python3 -c 'import {PKG}; print({PKG}.__file__)'")
     assert out.returncode == 0, out.stderr
@@ -108,13 +22,13 @@ def test_only_the_install_space_is_on_the_paths(install_env):
                                          os.path.join(REPO, ".ws", "devel"),
                                          os.path.join(REPO, "python"))), line
     lines = out.stdout.splitlines()
-    assert lines[2] == os.path.join(INSTALL, "share", PKG)
-    assert lines[3].startswith(os.path.join(INSTALL, "lib"))
+    assert lines[2] == os.path.join(install_space, "share", PKG)
+    assert lines[3].startswith(os.path.join(install_space, "lib"))
 
 
-def test_every_python_package_and_data_folder_is_installed():
+def test_every_python_package_and_data_folder_is_installed(install_space):
     source = os.path.join(REPO, "python", PKG)
-    installed = os.path.join(INSTALL, "lib", "python3", "dist-packages", PKG)
+    installed = os.path.join(install_space, "lib", "python3", "dist-packages", PKG)
     for folder, _, files in os.walk(source):
         if "__init__.py" in files:
             rel = os.path.relpath(folder, source)
@@ -124,18 +38,18 @@ def test_every_python_package_and_data_folder_is_installed():
                         f"{rel}/{name} is not installed (setup.py's packages?)"
     for data in ("launch", "worlds", "models", "config"):
         for name in os.listdir(os.path.join(REPO, data)):
-            path = os.path.join(INSTALL, "share", PKG, data, name)
+            path = os.path.join(install_space, "share", PKG, data, name)
             assert os.path.isfile(path) and not os.path.islink(path), path
 
 
-def _installed_nodes():
-    return sorted(os.listdir(os.path.join(INSTALL, "lib", PKG)))
+def _installed_nodes(install_space):
+    return sorted(os.listdir(os.path.join(install_space, "lib", PKG)))
 
 
-def test_every_installed_node_imports_its_module(install_env):
+def test_every_installed_node_imports_its_module(install_space, install_env):
     """Each rosrun executable's module (and so its imports) resolves in the install space."""
     scripts = os.path.join(REPO, "scripts")
-    assert _installed_nodes() == sorted(os.listdir(scripts))
+    assert _installed_nodes(install_space) == sorted(os.listdir(scripts))
     modules = []
     for name in sorted(os.listdir(scripts)):
         tree = ast.parse(open(os.path.join(scripts, name)).read())

@@ -1,10 +1,18 @@
-"""Helpers shared by the rostest clients: waiting for messages, the /rosout guard."""
+"""Helpers shared by the rostest clients: waiting for messages, the /rosout guard.
+
+rostest runs each client as a script (its folder on ``sys.path``); importing this module also
+puts ``test/`` there, for what every tier shares (``from repo import REPO``)."""
+import os
+import sys
 import threading
 import time
+import unittest
 
 import rosgraph.masterapi
 import rospy
 from rosgraph_msgs.msg import Log
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
 
 PKG = "epuck_vrep_compat"
 
@@ -104,6 +112,35 @@ def wait_sim_time(seconds, timeout_s=60.0):
             raise AssertionError(f"simulation time advanced only {sim_time_now() - start:.3f} s "
                                  f"of {seconds} s in {timeout_s} s")
         time.sleep(0.01)
+
+
+class SimTestCase(unittest.TestCase):
+    """The rostest clients' common start, once per class: the test's node (``NODE``), a
+    ``/rosout`` guard (``cls.guard``; none if ``GUARD`` is False), then the simulator waited
+    for, in this order: each of ``SERVICES``, one message of ``FIRST_MESSAGE`` (topic, type),
+    and ``SIM_TIME_S`` of simulation time. A class adds its own set-up after
+    ``super().setUpClass()``."""
+
+    NODE = None
+    GUARD = True
+    SERVICES = ()
+    SERVICE_TIMEOUT_S = 60.0
+    FIRST_MESSAGE = None
+    MESSAGE_TIMEOUT_S = 20.0
+    SIM_TIME_S = 0.0
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node(cls.NODE)
+        if cls.GUARD:
+            cls.guard = RosoutGuard()
+        for service in cls.SERVICES:
+            rospy.wait_for_service(service, timeout=cls.SERVICE_TIMEOUT_S)
+        if cls.FIRST_MESSAGE is not None:
+            topic, msg_class = cls.FIRST_MESSAGE
+            wait_for_message(topic, msg_class, timeout_s=cls.MESSAGE_TIMEOUT_S)
+        if cls.SIM_TIME_S:
+            wait_sim_time(cls.SIM_TIME_S)
 
 
 def simulator_topics(node="/vrep"):

@@ -5,7 +5,6 @@ import os
 import subprocess
 import tempfile
 import time
-import unittest
 
 import rospkg
 import rospy
@@ -16,7 +15,7 @@ from sensor_msgs.msg import Imu, Range
 from std_msgs.msg import String, UInt8MultiArray
 
 from epuck_vrep_compat.srv import StepSimulation
-from sim_test_helpers import PKG, Collector, RosoutGuard, wait_sim_time
+from sim_test_helpers import PKG, Collector, SimTestCase, wait_sim_time
 
 
 def finite_odometry(msg):
@@ -25,11 +24,12 @@ def finite_odometry(msg):
                                            t.angular.z))
 
 
-class BadInput(unittest.TestCase):
+class BadInput(SimTestCase):
+    NODE = "test_bad_input"
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_bad_input")
-        cls.guard = RosoutGuard()
+        super().setUpClass()
         cls.truth = Collector("/ePuck0/ground_truth", Odometry)
         cls.truth.wait(1, timeout_s=30)
 

@@ -4,7 +4,6 @@ copy, answers the joint services, publishes its joint states (/IRB140_0/...), ap
 in group data, takes a speed scale; simRosRemoveModel removes it and its topics; the thesis's
 [/robot] HUB, given the copy's names, publishes its handles."""
 import time
-import unittest
 
 import rospy
 import rosgraph.masterapi
@@ -14,7 +13,7 @@ from sensor_msgs.msg import JointState
 
 from epuck_vrep_compat.msg import IrbMsg
 
-from sim_test_helpers import RosoutGuard, call, handle, wait_sim_time
+from sim_test_helpers import SimTestCase, call, handle, wait_sim_time
 
 WORLD = -1
 JOINT_TYPE = 1           # sim_object_joint_type
@@ -25,13 +24,14 @@ def publishers_of(topic):
     return [n for t, nodes in master.getSystemState()[0] if t == topic for n in nodes]
 
 
-class CellModels(unittest.TestCase):
+class CellModels(SimTestCase):
+    NODE = "test_cell_models"
+    SERVICES = ("/vrep/simRosLoadModel",)
+    SIM_TIME_S = 0.5
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_cell_models")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/simRosLoadModel", timeout=60)
-        wait_sim_time(0.5)
+        super().setUpClass()
         cls.tf = tf2_ros.Buffer()
         cls.listener = tf2_ros.TransformListener(cls.tf)
 

@@ -4,22 +4,21 @@ later one waits for the robot's ``cmd_vel`` answering the step before (the simul
 subscriber has applied it), so the step uses it, however late it comes."""
 import threading
 import time
-import unittest
 
-import rospy
 import rostest
 from geometry_msgs.msg import Twist
 
-from sim_test_helpers import PKG, RosoutGuard, stepped_robot
+from sim_test_helpers import PKG, SimTestCase, stepped_robot
 
 V_M_S = 0.05
 
 
-class CmdVelLockstep(unittest.TestCase):
+class CmdVelLockstep(SimTestCase):
+    NODE = "test_cmd_vel_lockstep"
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_cmd_vel_lockstep")
-        cls.guard = RosoutGuard()
+        super().setUpClass()
         stepped_robot(cls)
 
     def _truth_at(self, sim_time):

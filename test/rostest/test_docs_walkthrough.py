@@ -14,7 +14,6 @@ import subprocess
 import sys
 import tempfile
 import time
-import unittest
 
 import rosgraph.masterapi
 import rospy
@@ -22,10 +21,9 @@ import rostest
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, wait_for_message, wait_sim_time
+from sim_test_helpers import PKG, Collector, SimTestCase, wait_sim_time
+from repo import REPO  # test/ on the path: sim_test_helpers  # isort: skip
 
-# the checkout itself (the workspace's package folder links to it, without tools/)
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "tools"))
 import doc_commands as docs  # noqa: E402
 
@@ -87,12 +85,9 @@ def position(odometry):
     return p.x, p.y
 
 
-class DocsWalkthrough(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("test_docs_walkthrough")
-        cls.guard = RosoutGuard()
-        wait_for_message("/clock", Clock)
+class DocsWalkthrough(SimTestCase):
+    NODE = "test_docs_walkthrough"
+    FIRST_MESSAGE = ("/clock", Clock)
 
     def test_every_name_the_docs_give_this_simulator_exists(self):
         names = [n for c in docs.all_commands(REPO) for n in docs.names_of(c)]

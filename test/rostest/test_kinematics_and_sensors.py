@@ -5,7 +5,6 @@ World ``test/worlds/wall.yaml``: ePuck0 at (0.15, 0) facing +x, the wall's face 
 """
 import math
 import time
-import unittest
 
 import rospy
 import rostest
@@ -13,7 +12,7 @@ import tf2_ros
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Imu, Range
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, stepped_robot
+from sim_test_helpers import PKG, Collector, SimTestCase, stepped_robot
 
 WALL_X = 0.20
 HALF_ANGLE = math.radians(15.0)
@@ -24,11 +23,12 @@ def yaw_of(q):
     return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
-class KinematicsAndSensors(unittest.TestCase):
+class KinematicsAndSensors(SimTestCase):
+    NODE = "test_kinematics_and_sensors"
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_kinematics_and_sensors")
-        cls.guard = RosoutGuard()
+        super().setUpClass()
         stepped_robot(cls)
 
     def _step(self, steps):

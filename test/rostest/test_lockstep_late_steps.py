@@ -4,19 +4,21 @@ answer of a controller that is still connected (hung, or slow beyond ``lockstep_
 counts in ``/experiment/late_steps/vrep``, where the experiment's probe adds it to the row's
 ``late_steps``; once the controller has gone, the steps it can no longer answer do not."""
 import time
-import unittest
 
 import rospy
 import rostest
 
 from epuck_vrep_compat.compat.topics import LATE_STEPS_PARAM
-from sim_test_helpers import PKG, stepped_robot
+from sim_test_helpers import PKG, SimTestCase, stepped_robot
 
 
-class LockstepLateSteps(unittest.TestCase):
+class LockstepLateSteps(SimTestCase):
+    NODE = "test_lockstep_late_steps"
+    GUARD = False
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_lockstep_late_steps")
+        super().setUpClass()
         stepped_robot(cls)
 
     def late(self):

@@ -2,24 +2,20 @@
 """merlin_safety.launch as a user runs it: operator_tracker's estimate feeds ssm_supervisor.
 Over two walks into the IRB 140's workspace the arm is slowed, stopped and resumes, and while
 it moves the true separation (the test's own /vrep/operator_separation queries) stays above C."""
-import unittest
-
 import rospy
 import rostest
 from std_msgs.msg import Float64, String
 
-from sim_test_helpers import Collector, RosoutGuard, wait_sim_time
+from sim_test_helpers import Collector, SimTestCase
 from test_ssm_supervisor import C_M, MOVING_RAD_S, WALK_CYCLE_S, WalkMonitor
 
 
-class MerlinSafetyDemo(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("test_merlin_safety")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/operator_separation", timeout=60)
-        rospy.wait_for_message("/operator_tracker/pose", rospy.AnyMsg, timeout=60)
-        wait_sim_time(1.0)
+class MerlinSafetyDemo(SimTestCase):
+    NODE = "test_merlin_safety"
+    SERVICES = ("/vrep/operator_separation",)
+    FIRST_MESSAGE = ("/operator_tracker/pose", rospy.AnyMsg)
+    MESSAGE_TIMEOUT_S = 60.0
+    SIM_TIME_S = 1.0
 
     def test_1_slows_stops_resumes_and_holds_the_distance(self):
         scales = Collector("/ssm_supervisor/IRB140/scale", Float64)

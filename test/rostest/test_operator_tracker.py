@@ -4,7 +4,6 @@ over full walks of worlds/merlin_safety.yaml: position error mean and 95th perce
 with camera 1 removed through /vrep the track goes on, with a larger covariance."""
 import threading
 import time
-import unittest
 
 import numpy as np
 import rospy
@@ -12,7 +11,7 @@ import rostest
 import tf2_ros
 from geometry_msgs.msg import PoseWithCovarianceStamped
 
-from sim_test_helpers import RosoutGuard, call, handle, sim_time_now, wait_sim_time
+from sim_test_helpers import SimTestCase, call, handle, wait_sim_time
 
 WALK_CYCLE_S = 2 * 3.2 / 1.6      # out and back along the 3.2 m path at 1.6 m/s
 
@@ -50,12 +49,14 @@ class Track:
         return np.array(errors), np.array(variances)
 
 
-class OperatorTracking(unittest.TestCase):
+class OperatorTracking(SimTestCase):
+    NODE = "test_operator_tracker"
+    FIRST_MESSAGE = ("/operator_tracker/pose", PoseWithCovarianceStamped)
+    MESSAGE_TIMEOUT_S = 60.0
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_operator_tracker")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_message("/operator_tracker/pose", PoseWithCovarianceStamped, timeout=60)
+        super().setUpClass()
         cls.track = Track()
         wait_sim_time(1.0)
 

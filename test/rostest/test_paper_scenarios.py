@@ -8,14 +8,13 @@ row on /ePuck0/imu (400 samples: means within 0.05 m/s², SDs within 10 %).
 wall (paper_wall.launch): the wall 0.5 cm ahead is seen by sensors 0, 1, 6, 7 at first and by
 none of them once the robot has reversed for 3 s."""
 import math
-import unittest
 
 import numpy as np
 import rospy
 import rostest
 from sensor_msgs.msg import Imu, Range
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, unpause_when_subscribed
+from sim_test_helpers import PKG, Collector, SimTestCase, unpause_when_subscribed
 
 TABLE1_MEAN = np.array([-0.05254, -0.26087, 9.68479])
 TABLE1_SD = np.array([0.03559, 0.03079, 0.04930])
@@ -25,11 +24,12 @@ def window(messages, t0, t1):
     return [m for m in messages if t0 <= m.header.stamp.to_sec() < t1]
 
 
-class PaperScenario(unittest.TestCase):
+class PaperScenario(SimTestCase):
+    NODE = "test_paper_scenarios"
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_paper_scenarios")
-        cls.guard = RosoutGuard()
+        super().setUpClass()
         cls.ir = [Collector(f"/ePuck0/proximity{k}", Range) for k in range(8)]
         cls.imu = Collector("/ePuck0/imu", Imu)
         unpause_when_subscribed(cls.ir + [cls.imu])

@@ -10,7 +10,6 @@ Test parameters: ``~profile`` and ``~robot`` (the robot's namespace). World
 """
 import math
 import time
-import unittest
 
 import rospy
 import rostest
@@ -18,7 +17,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
 from epuck_vrep_compat.srv import StepSimulation
-from sim_test_helpers import PKG, Collector, RosoutGuard
+from sim_test_helpers import PKG, Collector, SimTestCase
 
 WHEEL_RADIUS_M = 0.02
 
@@ -39,14 +38,15 @@ EXPECTED = {"vrep": vrep_speed, "epuck_driver": driver_speed, "epuck2_driver": d
 COMMAND_X = 2.0            # a typical driver- or script-tuned forward command
 
 
-class ProfileDefaults(unittest.TestCase):
+class ProfileDefaults(SimTestCase):
+    NODE = "test_profile_defaults"
+    SERVICES = ("/vrep/step",)
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_profile_defaults")
+        super().setUpClass()
         cls.profile = rospy.get_param("~profile")
         cls.robot = rospy.get_param("~robot")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/step", timeout=60)
         cls.step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
         cls.truth = Collector(f"{cls.robot}/ground_truth", Odometry)
         cmd_topic = {"vrep": "cmd_vel"}.get(cls.profile, "mobile_base/cmd_vel")

@@ -1,7 +1,5 @@
 #!/usr/bin/python3
 """Profile epuck_driver, two robots: the real driver's names, types, frames and values."""
-import unittest
-
 import numpy as np
 import rospy
 import rostest
@@ -13,17 +11,14 @@ from visualization_msgs.msg import Marker
 
 from epuck_vrep_compat.epuck import paper_robot as paper
 
-from sim_test_helpers import PKG, RosoutGuard, simulator_topics, wait_for_message
+from sim_test_helpers import PKG, SimTestCase, simulator_topics, wait_for_message
 
 ROBOTS = ("epuck_robot_0", "epuck_robot_1")
 
 
-class ProfileDriver(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("test_profile_driver")
-        cls.guard = RosoutGuard()
-        wait_for_message("/clock", Clock)
+class ProfileDriver(SimTestCase):
+    NODE = "test_profile_driver"
+    FIRST_MESSAGE = ("/clock", Clock)
 
     def test_topics_and_types(self):
         published, subscribed, types = simulator_topics()

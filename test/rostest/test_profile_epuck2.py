@@ -6,7 +6,6 @@ bad input. World ``test/worlds/epuck2.yaml``, noise off, paused and stepped (50 
 """
 import math
 import time
-import unittest
 
 import numpy as np
 import rospy
@@ -19,7 +18,7 @@ from std_msgs.msg import UInt8MultiArray
 from visualization_msgs.msg import Marker, MarkerArray
 
 from epuck_vrep_compat.srv import StepSimulation
-from sim_test_helpers import PKG, Collector, RosoutGuard, simulator_topics
+from sim_test_helpers import PKG, Collector, SimTestCase, simulator_topics
 
 ROBOTS = ("epuck_robot_0", "epuck_robot_1")
 TOF_M = 0.465 / math.cos(0.21)        # both walls 0.465 m ahead of the pitched sensor
@@ -34,12 +33,13 @@ def yaw_of(q):
 PER_STEP_TOPICS = ("ground_truth", "battery", "dist_sens", "mag_field", "imu", "odom")
 
 
-class ProfileEpuck2(unittest.TestCase):
+class ProfileEpuck2(SimTestCase):
+    NODE = "test_profile_epuck2"
+    SERVICES = ("/vrep/step",)
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_profile_epuck2")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/step", timeout=60)
+        super().setUpClass()
         cls.step_srv = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
         cls.c = {}
         for robot in ROBOTS:

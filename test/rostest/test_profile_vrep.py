@@ -1,7 +1,6 @@
 #!/usr/bin/python3
 """Profile vrep, two robots: names, types, field values, rates, TF, LEDs and camera."""
 import math
-import unittest
 
 import numpy as np
 import rospy
@@ -13,18 +12,15 @@ from std_msgs.msg import UInt8MultiArray
 
 from epuck_vrep_compat.epuck import paper_robot as paper
 
-from sim_test_helpers import (PKG, Collector, RosoutGuard, simulator_topics, wait_for_message,
+from sim_test_helpers import (PKG, Collector, SimTestCase, simulator_topics, wait_for_message,
                               wait_sim_time)
 
 ROBOTS = ("ePuck0", "ePuck1")
 
 
-class ProfileVrep(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("test_profile_vrep")
-        cls.guard = RosoutGuard()
-        wait_for_message("/clock", Clock)
+class ProfileVrep(SimTestCase):
+    NODE = "test_profile_vrep"
+    FIRST_MESSAGE = ("/clock", Clock)
 
     def test_topics_and_types(self):
         published, subscribed, types = simulator_topics()

@@ -5,7 +5,6 @@ states and the noisy laser, stamped from 0 again, the operator where his walk pu
 another seed, the operator walks another walk and the laser's noise differs; a bad request is
 refused and changes nothing."""
 import time
-import unittest
 
 import rospy
 import rostest
@@ -14,18 +13,19 @@ from sensor_msgs.msg import JointState, LaserScan
 from epuck_vrep_compat.compat.topics import (
     CELL_LASER_TOPIC, JOINT_STATES_TOPIC, NODE_NAMESPACE, REWIND_SERVICE)
 from epuck_vrep_compat.srv import Rewind, StepSimulation
-from sim_test_helpers import Collector, RosoutGuard, call, handle
+from sim_test_helpers import Collector, SimTestCase, call, handle
 
 STEPS = 30          # 1.5 s: 16 scans (the one taken at the start, then every other step)
 SCANS = STEPS // 2 + 1
 
 
-class RewindTest(unittest.TestCase):
+class RewindTest(SimTestCase):
+    NODE = "test_rewind"
+    SERVICES = (REWIND_SERVICE,)
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_rewind")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service(REWIND_SERVICE, timeout=60)
+        super().setUpClass()
         cls.rewind = rospy.ServiceProxy(REWIND_SERVICE, Rewind)
         cls.step = rospy.ServiceProxy(NODE_NAMESPACE + "step", StepSimulation)
         cls.topics = [Collector(JOINT_STATES_TOPIC.format(robot="IRB140"), JointState),

@@ -8,7 +8,6 @@ Test parameters: ``~robots`` (the names launched), ``~frames`` (their frame pref
 """
 import subprocess
 import time
-import unittest
 
 import rospy
 import rostest
@@ -18,23 +17,25 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Range
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, handle, simulator_topics, \
-    wait_for_message
+from sim_test_helpers import (PKG, Collector, SimTestCase, handle, simulator_topics,
+                              wait_for_message)
 
 
 def topic(robot, name):
     return f"/{name}" if robot == "/" else f"/{robot}/{name}"
 
 
-class RobotNames(unittest.TestCase):
+class RobotNames(SimTestCase):
+    NODE = "test_robot_names"
+    FIRST_MESSAGE = ("/clock", Clock)
+    MESSAGE_TIMEOUT_S = 60.0
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_robot_names")
-        cls.guard = RosoutGuard()
+        super().setUpClass()
         cls.robots = rospy.get_param("~robots")
         cls.frames = rospy.get_param("~frames")
         cls.cmd_vel = rospy.get_param("~cmd_vel")
-        wait_for_message("/clock", Clock, timeout_s=60)
 
     def test_a_topics_follow_the_names(self):
         published, subscribed, types = simulator_topics()

@@ -28,11 +28,12 @@ from rosgraph_msgs.msg import Clock
 
 from raw_tcpros import RawSubscriber, pump, subscribe_all, tcpros_address
 from sim_test_helpers import PKG, master_knows, simulator_topics, wait_for_message
+from repo import REPO  # test/ on the path: sim_test_helpers  # isort: skip
 
 N = 100
 STEP_S = 0.05
 SENSOR = "/ePuck0/proximity0"
-WORLD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "worlds", "swarm.yaml")
+WORLD = os.path.join(REPO, "test", "worlds", "swarm.yaml")
 LIVENESS_S = 300.0    # a guard against a hang, far beyond what a stop takes
 STOPPED = re.compile(r"epuck_sim stops \(SIGINT at t=([0-9.]+) s\)")
 

@@ -17,10 +17,11 @@ import rostest
 import yaml
 from matplotlib.image import imread
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "unit"))
-from test_fit_noise import TRUE, make_bag  # noqa: E402  (the unit tier's bag maker)
+from sim_test_helpers import PKG
+from repo import REPO  # test/ on the path: sim_test_helpers  # isort: skip
 
-PKG = "epuck_vrep_compat"
+sys.path.insert(0, os.path.join(REPO, "test", "unit"))
+from test_fit_noise import TRUE, make_bag  # noqa: E402  (the unit tier's bag maker)
 
 
 class SimVsReal(unittest.TestCase):

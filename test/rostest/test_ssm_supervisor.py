@@ -7,7 +7,6 @@ would be stops its arm, and says why, on a non-finite, stale or frozen estimate.
 import math
 import threading
 import time
-import unittest
 
 import rospy
 import rostest
@@ -17,7 +16,7 @@ from std_msgs.msg import Bool, Float64, String
 from std_srvs.srv import SetBool
 
 from epuck_vrep_compat.srv import OperatorSeparation
-from sim_test_helpers import Collector, RosoutGuard, sim_time_now, wait_sim_time
+from sim_test_helpers import Collector, SimTestCase, sim_time_now, wait_sim_time
 
 C_M = 0.1                    # the supervisor's default intrusion distance
 WALK_CYCLE_S = 2 * 3.2 / 1.6  # out and back along the 3.2 m path
@@ -58,13 +57,13 @@ class WalkMonitor:
         return samples
 
 
-class SsmSupervisor(unittest.TestCase):
+class SsmSupervisor(SimTestCase):
+    NODE = "test_ssm_supervisor"
+    SERVICES = ("/vrep/operator_separation", "/ssm_supervisor/set_enabled")
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_ssm_supervisor")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/operator_separation", timeout=60)
-        rospy.wait_for_service("/ssm_supervisor/set_enabled", timeout=60)
+        super().setUpClass()
         cls.monitor = WalkMonitor()
         wait_sim_time(1.0)
 

@@ -6,7 +6,6 @@ publisher exist while the simulator is still registering (bulk registration from
 thread, ``ros/transport/registration.py``): the master must hand each side to the other.
 """
 import time
-import unittest
 
 import rosgraph.masterapi
 import rospy
@@ -15,7 +14,7 @@ from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Range
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, wait_for_message
+from sim_test_helpers import PKG, Collector, RosoutGuard, SimTestCase, wait_for_message
 
 N = 150
 LAST = f"ePuck{N - 1}"
@@ -36,10 +35,13 @@ def missing_registrations():
                       if f"/ePuck{i}/{r}" not in subscribed]
 
 
-class StartupRegistration(unittest.TestCase):
+class StartupRegistration(SimTestCase):
+    NODE = "test_startup_registration"
+    GUARD = False             # made after the first subscriptions (set-up below)
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_startup_registration")
+        super().setUpClass()
         # first thing: subscribe and publish on the last robot's topics, which the simulator
         # registers last
         cls.ranges = Collector(f"/{LAST}/proximity0", Range)

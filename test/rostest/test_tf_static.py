@@ -4,7 +4,6 @@
 tf and tf2 listeners see the whole tree, also when they start late; a robot loaded or removed
 through /vrep updates /tf_static."""
 import time
-import unittest
 
 import rospy
 import rostest
@@ -13,8 +12,7 @@ import tf2_ros
 from rosgraph_msgs.msg import Clock
 from tf2_msgs.msg import TFMessage
 
-from sim_test_helpers import (PKG, Collector, RosoutGuard, call, wait_for_message,
-                              wait_sim_time)
+from sim_test_helpers import PKG, Collector, SimTestCase, call, wait_for_message, wait_sim_time
 
 ROBOTS = ("ePuck0", "ePuck1")
 FIXED = [f"base_prox{k}" for k in range(8)] + ["body_top", "camera_optical"]
@@ -31,12 +29,10 @@ def children(msg):
     return {t.child_frame_id for t in msg.transforms}
 
 
-class TfStatic(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("test_tf_static")
-        cls.guard = RosoutGuard()
-        wait_for_message("/clock", Clock, timeout_s=TIMEOUT_S)
+class TfStatic(SimTestCase):
+    NODE = "test_tf_static"
+    FIRST_MESSAGE = ("/clock", Clock)
+    MESSAGE_TIMEOUT_S = TIMEOUT_S
 
     def test_fixed_frames_latched_moving_frames_per_step(self):
         static = latched()

@@ -4,7 +4,6 @@ clear, repeated /rosout line, publish nothing and do not die; a bad parameter is
 import subprocess
 import threading
 import time
-import unittest
 
 import rosnode
 import rospy
@@ -12,7 +11,7 @@ import rostest
 from rosgraph_msgs.msg import Log
 
 from epuck_vrep_compat.msg import ComauMsg, vett_proxData
-from sim_test_helpers import PKG, Collector
+from sim_test_helpers import PKG, Collector, SimTestCase
 
 WAITING = {"/robot": "waiting for /vrep/simRosGetObjectHandle",
            "/proxSensors": "waiting for /vrep/simRosGetObjectGroupData"}
@@ -34,10 +33,9 @@ class RosoutLines:
             return [(level, text) for name, level, text in self.lines if name == node]
 
 
-class ThesisNodesWaiting(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("test_thesis_nodes_waiting")
+class ThesisNodesWaiting(SimTestCase):
+    NODE = "test_thesis_nodes_waiting"
+    GUARD = False
 
     def test_nodes_wait_for_the_simulator_and_stay_up(self):
         rosout = RosoutLines()

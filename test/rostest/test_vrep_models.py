@@ -6,7 +6,6 @@ joints, proximity reads), a removed one leaves every face while the others keep 
 requests answer -1 with a reason in simRosGetLastErrors. Every test undoes what it adds, and
 derives names from the scene, so the order of the tests does not matter."""
 import math
-import unittest
 
 import rospy
 import rostest
@@ -22,7 +21,7 @@ from vrep_common.msg import VrepInfo
 from epuck_vrep_compat.compat.vrep_codes import STRMCMD_GET_OBJECT_POSE
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.scene.epuck_model import suffix_number
-from sim_test_helpers import (PKG, Collector, RosoutGuard, simulator_topics, wait_for_message,
+from sim_test_helpers import (PKG, Collector, SimTestCase, simulator_topics, wait_for_message,
                               wait_sim_time)
 
 HANDLE_ALL, WORLD, ALL_OBJECTS = -2, -1, 109
@@ -49,14 +48,16 @@ def pose_xy(h):
     return p.x, p.y
 
 
-class VrepModels(unittest.TestCase):
+class VrepModels(SimTestCase):
+    NODE = "test_vrep_models"
+    SERVICES = ("/vrep/simRosLoadModel",)
+    SERVICE_TIMEOUT_S = 30.0
+    FIRST_MESSAGE = ("/clock", Clock)
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_vrep_models")
+        super().setUpClass()
         cls.profile = PROFILES[rospy.get_param("~profile", "vrep")]
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/simRosLoadModel", timeout=30)
-        wait_for_message("/clock", Clock)
 
     def setUp(self):
         self.last_errors()

@@ -4,17 +4,15 @@ test/worlds/vrep_services.yaml (ePuck faces a wall 0.163 m ahead of its camera).
 import math
 import threading
 import time
-import unittest
 
 import rosgraph.masterapi
-import rospy
 import rostest
 import vrep_common.srv
 from vrep_common.msg import VrepInfo
 
 from epuck_vrep_compat.compat import vrep_codes as vc
 
-from sim_test_helpers import PKG, Collector, RosoutGuard, call, handle, wait_sim_time
+from sim_test_helpers import PKG, Collector, SimTestCase, call, handle, wait_sim_time
 
 WALL_AHEAD_OF_CAMERA_M = 0.5 - (0.3 + 0.037)
 NEAR_M, FAR_M = 0.005, 2.0                  # CameraSpec defaults
@@ -28,12 +26,14 @@ def info_seq(msg):
     return seq - (1 << 32) if seq >= 1 << 31 else seq
 
 
-class VrepServices(unittest.TestCase):
+class VrepServices(SimTestCase):
+    NODE = "test_vrep_services"
+    SERVICES = ("/vrep/simRosGetInfo",)
+    SERVICE_TIMEOUT_S = 30.0
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_vrep_services")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/simRosGetInfo", timeout=30)
+        super().setUpClass()
         cls.info = Collector("/vrep/info", VrepInfo)
         cls.info.wait(1, timeout_s=30)
 

@@ -4,7 +4,6 @@ once per step, subscriber streams acting on the simulation, and every stream end
 simulation stops (V-REP 3.3.0's legacy plugin)."""
 import math
 import time
-import unittest
 
 import numpy as np
 import rosgraph.masterapi
@@ -20,7 +19,7 @@ from vrep_common.srv import (
     simRosDisablePublisher, simRosDisableSubscriber, simRosEnablePublisher,
     simRosEnableSubscriber, simRosGetObjectHandle, simRosStartSimulation, simRosStopSimulation)
 
-from sim_test_helpers import PKG, Collector, wait_for_message, wait_sim_time
+from sim_test_helpers import PKG, Collector, SimTestCase, wait_for_message, wait_sim_time
 
 # simros_strmcmd_* (v_repConst.h, as clients hard-code them)
 GET_JOINT_STATE, GET_OBJECT_POSE, GET_TRANSFORM = 4102, 8193, 8198
@@ -43,10 +42,13 @@ def vrep_topics():
             {t for t, nodes in subs if "/vrep" in nodes})
 
 
-class VrepStreams(unittest.TestCase):
+class VrepStreams(SimTestCase):
+    NODE = "test_vrep_streams"
+    GUARD = False
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_vrep_streams")
+        super().setUpClass()
         cls.enable_pub = service("simRosEnablePublisher", simRosEnablePublisher)
         cls.disable_pub = service("simRosDisablePublisher", simRosDisablePublisher)
         cls.enable_sub = service("simRosEnableSubscriber", simRosEnableSubscriber)

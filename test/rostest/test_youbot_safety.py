@@ -7,7 +7,6 @@ trace: far away until 8 s, then by 11 s into the base's path, ahead of it) comes
 scale falls through (0, 1) to 0, and the base, still commanded at 0.2 m/s, stands still: it
 stops short of him, the true separation above C."""
 import threading
-import unittest
 
 import numpy as np
 import rospy
@@ -17,7 +16,7 @@ from std_msgs.msg import Float64
 from tf2_msgs.msg import TFMessage
 
 from epuck_vrep_compat.srv import OperatorSeparation
-from sim_test_helpers import PKG, Collector, RosoutGuard, unpause_when_subscribed
+from sim_test_helpers import PKG, Collector, SimTestCase, unpause_when_subscribed
 from test_ssm_supervisor import C_M
 
 SPEED_M_S = 0.2
@@ -48,11 +47,12 @@ class BasePoses:
             return float(np.hypot(*np.subtract(self.poses[b], self.poses[a]))) / (b - a)
 
 
-class YoubotSafety(unittest.TestCase):
+class YoubotSafety(SimTestCase):
+    NODE = "test_youbot_safety"
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_youbot_safety")
-        cls.guard = RosoutGuard()
+        super().setUpClass()
         cls.cmd = rospy.Publisher("/youBot/cmd_vel", Twist, queue_size=1)
         cls.s_p = Collector("/ssm_supervisor/youBot/protective_separation", Float64)
         cls.scale = Collector("/ssm_supervisor/youBot/scale", Float64)

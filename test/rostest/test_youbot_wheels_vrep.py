@@ -5,7 +5,6 @@ sideways and turns as the mecanum kinematics predict; /youBot/cmd_vel then takes
 Stepped synchronously, so the motion over a known number of steps is exact."""
 import math
 import time
-import unittest
 
 import numpy as np
 import rospy
@@ -13,7 +12,7 @@ import rostest
 from geometry_msgs.msg import Twist, Vector3
 
 from epuck_vrep_compat.cell.devices.mecanum import WHEELS, wheel_speeds
-from sim_test_helpers import RosoutGuard, call, handle, wait_sim_time
+from sim_test_helpers import SimTestCase, call, handle
 
 WORLD = -1
 STEPS = 40
@@ -42,13 +41,14 @@ def step(count):
             time.sleep(0.005)
 
 
-class YoubotWheels(unittest.TestCase):
+class YoubotWheels(SimTestCase):
+    NODE = "test_youbot_wheels"
+    SERVICES = ("/vrep/simRosSynchronousTrigger",)
+    SIM_TIME_S = 0.5
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("test_youbot_wheels")
-        cls.guard = RosoutGuard()
-        rospy.wait_for_service("/vrep/simRosSynchronousTrigger", timeout=60)
-        wait_sim_time(0.5)
+        super().setUpClass()
         cls.bot = handle("youBot")
         cls.wheels = {w: handle(f"rollingJoint_{w}") for w in WHEELS}
         assert cls.bot >= 0 and min(cls.wheels.values()) >= 0

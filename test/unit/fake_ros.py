@@ -16,8 +16,9 @@ import types
 import rospy
 import tf2_ros
 
+from repo import REPO
+
 REAL_BUFFER = tf2_ros.Buffer
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def bench_script(name):

@@ -13,8 +13,9 @@ from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep import backend as vrep_backend
 from epuck_vrep_compat.vrep.backend import (
     MAX_ERROR_CHARS, MAX_ERRORS, ErrorLog, VrepBackend, VrepError)
+from repo import REPO
 
-WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")
+WORLDS = os.path.join(REPO, "test", "worlds")
 
 
 @pytest.fixture

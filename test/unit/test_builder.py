@@ -11,8 +11,7 @@ from epuck_vrep_compat.builder.streams import (
 from epuck_vrep_compat.epuck.epuck2_sensors import Epuck2Settings
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
 from epuck_vrep_compat.sim.simulation import Simulation
-
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
 
 
 def test_a_stream_seed_is_sha256_of_the_seed_and_the_name():

@@ -10,8 +10,9 @@ import pytest
 from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation, rewind_simulation
 from epuck_vrep_compat.scene.operator_file import override_motion
 from epuck_vrep_compat.scene.scene_file import load_scene
+from repo import REPO
 
-WORLD = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
+WORLD = os.path.join(REPO, "worlds", "merlin_cell.yaml")
 STEPS = 200
 
 

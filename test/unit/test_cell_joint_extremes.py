@@ -5,29 +5,16 @@ first arm link). A cyclic joint's angle is now taken modulo a turn and its targe
 way; a stop gives every joint its URDF force back; an arm whose physics diverges anyway is put
 back to its state before the step, which reports it once, and the next steps go on."""
 import math
-import os
 
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
-from epuck_vrep_compat.scene.model_files import ModelLibrary
-from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
-from epuck_vrep_compat.vrep.backend import VrepBackend
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 WHEEL = "rollingJoint_fl"
 
 
 @pytest.fixture
-def cell():
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")),
-                           SimulationConfig([]))
-    backend = VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
-                          models=ModelLibrary(os.path.join(REPO, "models")))
-    yield backend
-    sim.cell.close()
+def cell(backend_of):
+    return backend_of("merlin_cell.yaml")
 
 
 def youbot_finite(backend):

@@ -1,33 +1,17 @@
 """simLoadModel of the cell's robots (no master): an IRB 140, a SMART SiX or a youBot by V-REP's
 model file name or our URDF's, named as V-REP names a copy, working (joints, collision shapes,
 the youBot's wheels), and removed whole; refused cleanly where there is no cell."""
-import os
-
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.builder.build import build_simulation
 from epuck_vrep_compat.cell.devices.mecanum import wheel_speeds
 from epuck_vrep_compat.cell.separation import operator_separation
-from epuck_vrep_compat.scene.model_files import ModelLibrary
-from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
-from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
-
-
-def backend_of(world):
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", world)))
-    return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
-                       models=ModelLibrary(os.path.join(REPO, "models")))
+from epuck_vrep_compat.vrep.backend import VrepError
 
 
 @pytest.fixture
-def backend():
-    b = backend_of("merlin_cell.yaml")
-    yield b
-    b.sim.cell.close()
+def backend(backend_of):
+    return backend_of("merlin_cell.yaml")
 
 
 def joint(sim, name):
@@ -80,7 +64,7 @@ def test_a_loaded_youbot_drives_on_its_wheels(backend):
     assert np.isfinite(bot.link_position).all()
 
 
-def test_no_cell_no_cell_robot():
+def test_no_cell_no_cell_robot(backend_of):
     b = backend_of("arena.yaml")
     with pytest.raises(VrepError, match="nothing in this scene loads 'cell_robot'"):
         b.load_model("ABB IRB 140.ttm")

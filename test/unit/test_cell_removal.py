@@ -2,26 +2,15 @@
 indexed right, and what is refused without changing anything. Also the cell's model-side
 outputs the ROS faces read: the blob float signals the cell writes after each step (as the
 thesis's child script), cleared when their camera goes, and the count of laser scans taken."""
-import os
-
 import numpy as np
 import pytest
 
-from epuck_vrep_compat.builder.build import build_simulation
-from epuck_vrep_compat.scene.model_files import ModelLibrary
-from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
-from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
+from epuck_vrep_compat.vrep.backend import VrepError
 
 
 @pytest.fixture
-def backend():
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", "merlin_cell.yaml")))
-    yield VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
-                      models=ModelLibrary(os.path.join(REPO, "models")))
-    sim.cell.close()
+def backend(backend_of):
+    return backend_of("merlin_cell.yaml")
 
 
 def remove(backend, name):

@@ -11,9 +11,9 @@ from epuck_vrep_compat.cell.devices.operator_motion import PingPongPath
 from epuck_vrep_compat.geometry.transforms import quat_rotate
 from epuck_vrep_compat.scene.cell_file import parse_cell
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene
+from repo import REPO
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-WORLDS = os.path.join(HERE, "..", "..", "worlds")
+WORLDS = os.path.join(REPO, "worlds")
 
 
 def test_the_shipped_cell_parses_with_every_part():

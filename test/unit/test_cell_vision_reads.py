@@ -10,8 +10,9 @@ from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend
+from repo import REPO
 
-WORLD = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
+WORLD = os.path.join(REPO, "worlds", "merlin_cell.yaml")
 
 
 @pytest.fixture

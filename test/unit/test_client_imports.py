@@ -8,7 +8,8 @@ import sys
 
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 SCRIPTS = os.path.join(REPO, "scripts")
 SIMULATOR = {"epuck_sim"}
 HEAVY = ("epuck_vrep_compat._core", "pybullet", "epuck_vrep_compat.sim",

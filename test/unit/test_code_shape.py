@@ -6,7 +6,8 @@ import os
 
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 PACKAGE_DIR = os.path.join(REPO, "python", "epuck_vrep_compat")
 MAX_MODULE_LINES = 300
 MAX_FUNCTION_LINES = 60

@@ -12,7 +12,8 @@ import re
 
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 TREES = {"public": os.path.join("include", "epuck_vrep_compat"),
          "private": os.path.join("src", "core"),
          "test": os.path.join("test", "core_cpp")}

@@ -16,7 +16,8 @@ import pytest
 import rospkg
 import yaml
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 sys.path.insert(0, os.path.join(REPO, "tools"))
 import doc_commands as docs  # noqa: E402
 

@@ -13,8 +13,8 @@ from epuck_vrep_compat.experiment import metrics_geometry as geo
 from epuck_vrep_compat.experiment.metrics import (
     RunContext, TopicSeries, columns, compute, load_recording, robots_in, save_recording,
     topics_needed, validate_metric)
+from repo import REPO
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 X, Y = "pose.pose.position.x", "pose.pose.position.y"
 WALL_X_M = 0.5                        # the default 1 m arena's +x wall, inner face
 

@@ -13,9 +13,9 @@ import yaml
 
 from epuck_vrep_compat.experiment import launch_files, plan, spec
 from epuck_vrep_compat.experiment.spec_checks import Lines
+from repo import REPO, fixtures_of
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-FIXTURES = os.path.join(REPO, "test", "experiment_fixtures")
+FIXTURES = fixtures_of("unit")
 EPUCKS = os.path.join(REPO, "launch", "epucks.launch")
 with open(os.path.join(FIXTURES, "valid.yaml"), encoding="utf-8") as _f:
     VALID_RAW = yaml.safe_load(_f)
@@ -265,7 +265,7 @@ def test_declared_args_are_the_settable_ones(tmp_path):
 @pytest.mark.parametrize("value, base, expected", [
     (EPUCKS, "/", EPUCKS),
     ("mine.launch", FIXTURES, os.path.join(FIXTURES, "mine.launch")),
-    ("experiment_fixtures/mine.launch", os.path.join(REPO, "test"),
+    ("fixtures/mine.launch", os.path.join(REPO, "test", "unit"),
      os.path.join(FIXTURES, "mine.launch")),
     ("epuck_vrep_compat/launch/epucks.launch", "/", EPUCKS),
     ("epuck_vrep_compat/epucks.launch", "/", EPUCKS),

@@ -14,9 +14,9 @@ import yaml
 from epuck_vrep_compat.experiment import (
     engine, flatten, launch_files, plan, probe, probe_walks, runner_chunk, spec)
 from epuck_vrep_compat.experiment.spec_checks import Lines, SpecError
+from repo import fixtures_of
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-FIXTURES = os.path.join(REPO, "test", "experiment_fixtures")
+FIXTURES = fixtures_of("unit")
 with open(os.path.join(FIXTURES, "valid.yaml"), encoding="utf-8") as _f:
     VALID_RAW = yaml.safe_load(_f)
 # the fixtures' spec without its launch-file code entry (mine.launch declares no respawn_nodes)

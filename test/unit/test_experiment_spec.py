@@ -12,9 +12,9 @@ import yaml
 
 from epuck_vrep_compat.experiment import spec
 from epuck_vrep_compat.experiment.spec_checks import Lines, SpecError
+from repo import REPO, fixtures_of
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-FIXTURES = os.path.join(REPO, "test", "experiment_fixtures")
+FIXTURES = fixtures_of("unit")
 VALID = os.path.join(FIXTURES, "valid.yaml")
 with open(VALID, encoding="utf-8") as _f:
     VALID_TEXT = _f.read()

@@ -23,7 +23,8 @@ import sys
 
 import pytest
 
-REPO = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+from repo import REPO
+
 STEPS = 40
 SCENES = {"epucks": (os.path.join(REPO, "worlds", "arena.yaml"), 3),
           "cell": (os.path.join(REPO, "worlds", "merlin_cell.yaml"), 2)}
@@ -171,8 +172,11 @@ def record(scene: str, order: str) -> dict:
 
 
 def run(scene: str, order: str) -> dict:
+    tests = os.path.join(REPO, "test")          # for the child's own `from repo import REPO`
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        p for p in (tests, os.environ.get("PYTHONPATH")) if p))
     done = subprocess.run([sys.executable, __file__, scene, order], capture_output=True,
-                          text=True, timeout=300)
+                          text=True, timeout=300, env=env)
     assert done.returncode == 0, done.stderr[-3000:]
     return json.loads(done.stdout.splitlines()[-1])
 

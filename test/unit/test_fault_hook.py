@@ -8,8 +8,9 @@ from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim import fault_hook
 from epuck_vrep_compat.sim.fault_hook import FaultHook, InjectedFault
+from repo import REPO
 
-WALL = os.path.join(os.path.dirname(__file__), "..", "worlds", "wall.yaml")
+WALL = os.path.join(REPO, "test", "worlds", "wall.yaml")
 
 
 def simulation(fault_hook):

@@ -11,6 +11,7 @@ from epuck_vrep_compat.scene.scene_file import parse_scene
 from epuck_vrep_compat.sim.control import SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 from epuck_vrep_compat.vrep.group_data import group_data, vrep_euler_angles
+from repo import REPO
 
 SCENE = {"arena": {"size_m": [2.0, 2.0]},
          "robots": [{"position_m": [0.1, 0.2], "yaw_rad": 0.5},
@@ -138,7 +139,7 @@ def test_batched_poses_equal_one_pose_call_per_object_in_the_cell():
     from epuck_vrep_compat.scene.scene_file import load_scene
     from epuck_vrep_compat.sim.control import RUNNING
 
-    world = os.path.join(os.path.dirname(__file__), "..", "..", "worlds", "merlin_cell.yaml")
+    world = os.path.join(REPO, "worlds", "merlin_cell.yaml")
     sim = build_simulation(load_scene(world))
     try:
         backend = VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True)

@@ -21,8 +21,8 @@ from epuck_vrep_compat.ros.transport import wire
 from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms
 from epuck_vrep_compat.ros.transport.step_batch import StepBatch, synchronous_publisher
 from epuck_vrep_compat.scene.scene_file import load_scene
+from repo import REPO
 
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 PROFILE = PROFILES["vrep"]
 
 

@@ -15,7 +15,8 @@ from collections import defaultdict
 
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 PACKAGE_DIR = os.path.join(REPO, "python", "epuck_vrep_compat")
 PKG = "epuck_vrep_compat"
 

@@ -11,8 +11,7 @@ from epuck_vrep_compat.builder.build import build_simulation
 from epuck_vrep_compat.geometry.transforms import IDENTITY_QUAT, compose, quat_from_yaw
 from epuck_vrep_compat.nodes.link_speeds import LinkSpeeds, root_twist
 from epuck_vrep_compat.scene.scene_file import load_scene
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
+from repo import REPO
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,8 @@ import xml.etree.ElementTree as ET
 import pytest
 import yaml
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 MANIFESTS = ("package.xml", "vrep_common/package.xml")
 DEPENDENCY_TAGS = ("depend", "build_depend", "build_export_depend", "buildtool_depend",
                    "exec_depend", "test_depend", "doc_depend")

@@ -13,6 +13,7 @@ from epuck_vrep_compat.cell.devices.operator_walk import Floor, generate_walk
 from epuck_vrep_compat.scene.operator_file import (
     WalkSpec, check_on_floor, override_motion, parse_operator, read_trace)
 from epuck_vrep_compat.scene.validation import SceneError
+from repo import REPO
 
 ARENA = (6.0, 5.0)                    # worlds/merlin_safety.yaml's
 ROBOTS = [("IRB140", 0.4, 1.9), ("SIX", 2.1, -1.2), ("youBot", -1.9, -0.6)]
@@ -205,8 +206,7 @@ def test_a_launch_overrides_the_scenes_motion(tmp_path):
 def _cell_sim(seed, walk_seed, trace=None):
     from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
     from epuck_vrep_compat.scene.scene_file import load_scene
-    scene = load_scene(os.path.join(os.path.dirname(__file__), "..", "..", "worlds",
-                                    "merlin_safety.yaml"))
+    scene = load_scene(os.path.join(REPO, "worlds", "merlin_safety.yaml"))
     scene.cell.operator = override_motion(scene.cell.operator, walk_seed, trace)
     return build_simulation(scene, SimulationConfig(seed=seed))
 

@@ -14,8 +14,7 @@ from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
 from epuck_vrep_compat.vrep.group_data import group_data
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
+from repo import REPO
 
 
 def make_backend(world, robots, model_dirs=()):

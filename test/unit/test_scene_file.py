@@ -5,8 +5,9 @@ import pytest
 
 from epuck_vrep_compat.scene.placement import place_robots
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
+from repo import REPO
 
-WORLDS = os.path.join(os.path.dirname(__file__), "..", "..", "worlds")
+WORLDS = os.path.join(REPO, "worlds")
 
 
 def test_default_arena_loads():

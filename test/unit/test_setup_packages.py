@@ -3,7 +3,7 @@ works in the devel space and is missing from the install space."""
 import ast
 import os
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
 
 
 def listed_packages():

@@ -11,9 +11,10 @@ from epuck_vrep_compat.epuck.cameras import render_robot_cameras
 from epuck_vrep_compat.ros.epuck.profiles import PROFILES
 from epuck_vrep_compat.scene.epuck_model import next_robot_number, suffix_number
 from epuck_vrep_compat.scene.scene_file import SceneError, load_scene, parse_scene
+from repo import REPO
 
-WORLDS = os.path.join(os.path.dirname(__file__), "..", "..", "worlds")
-TEST_WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")
+WORLDS = os.path.join(REPO, "worlds")
+TEST_WORLDS = os.path.join(REPO, "test", "worlds")
 RADIUS_M = 0.037
 
 

@@ -9,8 +9,8 @@ import pytest
 
 from epuck_vrep_compat.builder.build import build_simulation
 from epuck_vrep_compat.scene.scene_file import load_scene
+from repo import REPO
 
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 TIMEOUT_S = 0.25                       # 5 steps of 50 ms
 
 

@@ -13,8 +13,7 @@ from epuck_vrep_compat.nodes.ssm_model import (
     ArmGovernor, SsmParameters, operator_uncertainty, protective_separation,
     static_separation)
 from epuck_vrep_compat.scene.scene_file import load_scene
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
+from repo import REPO
 
 
 def test_protective_separation_adds_the_standards_terms():

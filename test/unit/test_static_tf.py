@@ -14,8 +14,8 @@ from epuck_vrep_compat.ros.transport.static_tf import StaticTransforms, static_t
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend
+from repo import REPO
 
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 WORLD = -1
 
 

@@ -11,7 +11,9 @@ import sys
 from hypothesis import HealthCheck, find, given, settings
 import hypothesis.strategies as st
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "rostest"))
+from repo import REPO
+
+sys.path.insert(0, os.path.join(REPO, "test", "rostest"))
 import test_vrep_fuzz as fuzz  # noqa: E402 - the rostest's own module
 
 PROTECTED = {3, 7, 12}     # small handles: 0-19 are among the constants every int field draws

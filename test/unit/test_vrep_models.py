@@ -4,24 +4,18 @@ import os
 
 import pytest
 
-from epuck_vrep_compat.builder.build import SimulationConfig, build_simulation
 from epuck_vrep_compat.compat import vrep_codes as vc
 from epuck_vrep_compat.scene.model_files import ModelFileError, ModelLibrary
-from epuck_vrep_compat.scene.scene_file import load_scene
-from epuck_vrep_compat.sim.control import RUNNING, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend, VrepError
+from repo import REPO
 
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
 MODELS = os.path.join(REPO, "models")
 EPUCK_YAML = os.path.abspath(os.path.join(MODELS, "ePuck.yaml"))
 
 
 @pytest.fixture
-def backend():
-    sim = build_simulation(load_scene(os.path.join(REPO, "worlds", "arena.yaml")),
-                           SimulationConfig(["ePuck0", "ePuck1"]))
-    return VrepBackend(sim, SimulationControl(sim, RUNNING), real_time=True,
-                       models=ModelLibrary(MODELS))
+def backend(backend_of):
+    return backend_of("arena.yaml", ["ePuck0", "ePuck1"])
 
 
 @pytest.mark.parametrize("name", [

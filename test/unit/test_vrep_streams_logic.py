@@ -25,8 +25,9 @@ from epuck_vrep_compat.ros.vrep_plugin.streams import VrepStreams
 from epuck_vrep_compat.scene.scene_file import load_scene
 from epuck_vrep_compat.sim.control import RUNNING, STOPPED, SimulationControl
 from epuck_vrep_compat.vrep.backend import VrepBackend
+from repo import REPO
 
-WORLDS = os.path.join(os.path.dirname(__file__), "..", "worlds")
+WORLDS = os.path.join(REPO, "test", "worlds")
 
 
 # --- pure naming ---------------------------------------------------------------------------

@@ -10,8 +10,7 @@ from epuck_vrep_compat.builder.build import build_simulation
 from epuck_vrep_compat.cell.devices.mecanum import (
     WHEEL_LX_PLUS_LY_M, WHEEL_RADIUS_M, WHEELS, body_twist, wheel_speeds)
 from epuck_vrep_compat.scene.scene_file import load_scene
-
-REPO = os.path.join(os.path.dirname(__file__), "..", "..")
+from repo import REPO
 
 
 @pytest.fixture
