@@ -7,7 +7,8 @@ import sys
 
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 sys.path.insert(0, os.path.join(REPO, "tools"))
 from suite import changed, plan  # noqa: E402
 

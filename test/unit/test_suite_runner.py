@@ -11,7 +11,8 @@ import time
 
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from repo import REPO
+
 sys.path.insert(0, os.path.join(REPO, "tools"))
 from suite import jobs, plan, scheduler, summary, timing  # noqa: E402
 
