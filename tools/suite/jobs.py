@@ -73,6 +73,7 @@ class Job:
         self.log = os.path.join(results, "logs", f"{name}.log")
         self.ros_home = os.path.join(results, "ros_home", name)
         self.share, self.wall_s = 1.0, 60.0
+        self.fixed_share = None     # cores it keeps busy whatever it measured last
         self.ok_statuses = {0}      # pytest's 5 ("no tests collected") is fine under -k
         self.status = None          # exit status once ended; "hung" when stopped for hanging
         self.started = self.ended = None

@@ -85,7 +85,9 @@ class Plan:
         files = {p.split("::")[0] for p in paths}
         workers = min(self.cores, len(files))
         extra = ["-n", str(workers), "--dist", "loadfile"] if workers > 1 else []
-        self.jobs.append(self._pytest(tier, f"pytest-{tier}", paths, extra))
+        job = self._pytest(tier, f"pytest-{tier}", paths, extra)
+        job.fixed_share = float(workers)        # its workers run flat out, whatever it ran last
+        self.jobs.append(job)
 
     def _plan_core(self, paths):
         self._plan_xdist("core", paths)

@@ -56,7 +56,7 @@ def apply_costs(jobs, costs, cores):
     for job in jobs:
         wall, cpu = costs.get(job.name, (60.0, 30.0))
         job.wall_s = wall
-        job.share = min(float(cores), max(0.05, cpu / max(wall, 1e-3)))
+        job.share = min(float(cores), job.fixed_share or max(0.05, cpu / max(wall, 1e-3)))
 
 
 def remember_costs(repo, jobs):
