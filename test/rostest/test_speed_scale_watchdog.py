@@ -2,7 +2,8 @@
 """The simulator's speed-scale watchdog against a supervisor killed mid-walk (SIGKILL: it says
 nothing on its way out): the IRB 140 stops within the watchdog's 0.25 s of simulated time after
 the last scale, /IRB140/safety_stop says so and the log says it once; a fresh scale resumes the
-arm; the SiX, not watched, never stops."""
+arm; the SiX, not watched, never stops. The supervisor runs in lock-step (the simulator waits
+for its answer to each step), so a loaded machine cannot trip the watchdog before the kill."""
 import os
 import signal
 import time
@@ -34,6 +35,9 @@ class ScaleTimes:
         self._sub = rospy.Subscriber("/IRB140/speed_scale", Float64,
                                      lambda _: self.times.append(sim_time_now()), queue_size=100)
 
+    def connections(self):
+        return self._sub.get_num_connections()
+
 
 def kill_node(name):
     """SIGKILL the node (same machine): no unregistering, no last words."""
@@ -63,7 +67,11 @@ class SpeedScaleWatchdog(unittest.TestCase):
             time.sleep(0.05)
         self.stop.wait_for(lambda m: not m.data, what="safety_stop false while supervised")
         kill_node("/ssm_supervisor")
-        time.sleep(0.5)                         # wall time: its last scale has arrived
+        # its connection closes after its last scale has been read: every scale it sent is in
+        deadline = time.monotonic() + 60
+        while self.scales.connections() > 0:
+            self.assertLess(time.monotonic(), deadline, "the killed supervisor stayed connected")
+            time.sleep(0.05)
         last_scale_s = self.scales.times[-1]
         stopped = self.stop.wait_for(lambda m: m.data, what="safety_stop true")
         self.assertTrue(stopped.data)

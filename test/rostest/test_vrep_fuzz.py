@@ -45,7 +45,6 @@ LOGGER_BOUND = "loggers have been created through set_logger_level"   # the refu
 EXAMPLES_FOR = {"simRosSetObjectPose": 100, "simRosSetObjectPosition": 100,
                 "simRosSetObjectQuaternion": 100}
 CALL_TIMEOUT_S = 30.0
-INFO_GAP_S = 2.0                  # largest wall-time gap between /vrep/info messages allowed
 HUGE = 100_000                    # elements of a huge array
 WORLD, HANDLE_ALL, HANDLE_PARENT, ALL_OBJECTS = -1, -2, -11, 109
 INT_RANGES = {"int8": (-2**7, 2**7 - 1), "uint8": (0, 2**8 - 1), "int16": (-2**15, 2**15 - 1),
@@ -395,10 +394,6 @@ class TopicWatch:
     def close(self):
         self._sub.unregister()
 
-    def max_gap(self, t0, t1):
-        times = [t0] + [t for t, _, _ in self.info if t0 < t < t1] + [t1]
-        return max(b - a for a, b in zip(times, times[1:]))
-
 
 class VrepFuzz(unittest.TestCase):
     requested = {}                   # service -> requests sent
@@ -676,14 +671,12 @@ class VrepFuzz(unittest.TestCase):
                 except CallFailed as e:
                     self.fail(f"before the batch ({mode}), {UNREADABLE}: {e}")
                 self.assertEqual(moved, [], "the scene moves while " + mode)
-            t0 = time.monotonic()
+            # no wall-time gap between /vrep/info messages is checked here (a loaded machine
+            # stretches it): restore() requires the steps to go on after each service, and
+            # test_10 checks work held under the simulation lock in lock-step
             problems += self.fuzz_service(name, parts, pools)
             if any(UNREADABLE in p for p in problems):
                 break                   # the scene is broken: later services would only say so
-            if mode == "running":
-                gap = self.info.max_gap(t0, time.monotonic())
-                if gap > INFO_GAP_S:
-                    problems.append(f"{name}: /vrep/info paused {gap:.1f} s during the requests")
             try:
                 self.restore(f"after {name}")
             except AssertionError as e:
@@ -897,23 +890,35 @@ class VrepFuzz(unittest.TestCase):
         VrepFuzz.requested["set_logger_level"] = \
             VrepFuzz.requested.get("set_logger_level", 0) + sent + 22
 
-    def test_10_huge_model_file_keeps_info_flowing(self):
-        """Known defect (b): a model file with a ~4 MB list is read under the simulation lock."""
+    def test_10_huge_model_file_is_refused_and_the_simulation_steps_on(self):
+        """Known defect (b): a model file with a ~4 MB list was read under the simulation lock.
+        It is now refused unread (outside the model folders, and above MAX_MODEL_FILE_BYTES
+        even inside them: test/unit covers both). Checked in lock-step, not by the wall time
+        between /vrep/info messages (which a loaded machine stretches) nor by counting steps
+        taken during the call (the refusal comes before any step can): paused, the load is
+        refused and the next step advances the simulation by exactly one step."""
+        from epuck_vrep_compat.srv import StepSimulation   # here: the set-up's imports are shared
         with tempfile.TemporaryDirectory(prefix="vrep_fuzz_") as folder:
             path = os.path.join(folder, "huge_epuck.yaml")
             with open(path, "w", encoding="utf-8") as f:
                 f.write("robot: epuck\nposition_m: [0.0, 0.0]\naliases:\n")
                 f.writelines(f"  - fuzz_alias_{k:07d}.ttm\n" for k in range(148_000))
             self.assertGreater(os.path.getsize(path), 3_900_000)
-            t0 = time.monotonic()
-            res = self.call_vrep("simRosLoadModel", timeout_s=300, fileName=path)
-            t1 = time.monotonic()
-        gap = self.info.max_gap(t0, t1)
+            self.enter("paused")
+            step = rospy.ServiceProxy("/vrep/step", StepSimulation, persistent=True)
+            try:
+                before = step(1)
+                self.assertTrue(before.success, before.message)
+                res = self.call_vrep("simRosLoadModel", fileName=path)
+                after = step(1)
+            finally:
+                step.close()
         if res.result > 0:
             self.call_vrep("simRosRemoveModel", handle=res.result)
-        self.assertTrue(res.result == -1 or res.result > 0, f"answer {res}")
-        self.assertLess(gap, INFO_GAP_S, f"/vrep/info stopped for {gap:.1f} s during the "
-                        f"{t1 - t0:.1f} s simRosLoadModel call (answer {res.result})")
+        self.assertEqual(res.result, -1, f"the huge model file was not refused: {res}")
+        self.assertTrue(after.success, f"no step after the huge model: {after.message}")
+        self.assertEqual(after.frame, before.frame + 1, "the paused simulation moved on its own "
+                         "or did not step after the huge model")
         self.restore("after the huge model")
 
     def test_11_refused_far_positions_leave_the_scene_as_it_was(self):

@@ -3,6 +3,7 @@ face's at once): no wait before the first step, what came before it answers no s
 answer per robot per step after it, an early answer counted for the next step, a lost robot
 waited for again once it has caught up."""
 import threading
+import time
 
 from epuck_vrep_compat.ros.common import late_steps
 from epuck_vrep_compat.ros.common.lockstep import Locksteps, StepLockstep
@@ -160,3 +161,37 @@ def test_a_step_without_a_connected_robots_answer_is_a_late_step_for_the_experim
 def test_every_nodes_late_steps_add_up():
     assert late_steps.total({"vrep": 3, "operator_tracker": 1, "ns": {"truth": 2}}) == 6
     assert late_steps.total({}) == 0 and late_steps.total("junk") == 0
+
+
+def test_a_client_that_answered_and_disconnected_is_not_waited_for():
+    """A SIGKILLed supervisor: its connection closes after its last answer; the next step is
+    not held for the hour a hung one would be, and it is waited for again once it catches up."""
+    connected = {"irb140": True}
+    ls = StepLockstep(lambda: ["irb140"], 3600.0, "speed scale",
+                      connected=lambda r: connected[r])
+    ls.answered("irb140")                           # the handshake
+    ls.wait()
+    ls.stepped()
+    ls.answered("irb140")
+    ls.wait()
+    ls.stepped()
+    connected["irb140"] = False
+    waiter = threading.Thread(target=ls.wait)
+    waiter.start()
+    waiter.join(60.0)
+    assert not waiter.is_alive()
+    assert ls.missing() == []                       # lost: not waited for
+    ls.stepped()
+    assert (ls.late_steps, ls.late.count) == (1, 0)     # a dead client: not the machine's
+    connected["irb140"] = True
+    for _ in range(2):
+        ls.answered("irb140")                       # a new client answers both steps since
+    ls.stepped()
+    assert ls.missing() == [("irb140", 4)]           # waited for again: step 4 is owed
+
+
+def test_a_client_never_heard_is_waited_for_though_not_connected_yet():
+    ls = StepLockstep(lambda: ["irb140"], 0.2, "speed scale", connected=lambda r: False)
+    started = time.monotonic()
+    ls.wait()                                       # the handshake: a supervisor starting
+    assert time.monotonic() - started >= 0.2

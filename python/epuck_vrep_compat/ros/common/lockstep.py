@@ -17,9 +17,10 @@ answer when it is ready), the simulator waits before the first step for one mess
 robot and counts from a robot's first message on; without it (a controller that answers the
 sensor messages of each step, so nothing before the first), it does not wait before the first
 step, and what came before the first step answers no step. A robot whose answer does not come
-within ``timeout_s`` of wall time (a dead or hung client) is waited for no longer, with a
-warning: the run goes on and :attr:`late_steps` counts every step taken without waiting for
-some robot. Its late answers are still counted against the steps they answer; it is waited
+within ``timeout_s`` of wall time (a hung client), or whose client answered and has since
+disconnected (a dead one: not waited for at all), is waited for no longer, with a warning:
+the run goes on and :attr:`late_steps` counts every step taken without waiting for some
+robot. Its late answers are still counted against the steps they answer; it is waited
 for again only once it has answered every step published (never, with a warning when it is
 lost, if it skipped one). Messages beyond the steps published: by default (a supervisor's
 latched answer, sent again on a reconnection) ignored, with a warning, since they would
@@ -46,8 +47,9 @@ class StepLockstep:
         name in the log (``speed scale``, ``cmd_vel``); ``handshake``: wait before the first
         step for one answer from each; ``early_answers``: an answer beyond the steps published
         answers the next step (see the module); ``connected``: a callable, whether a robot's
-        client is still connected (default: always), so that a step taken without waiting for
-        a connected one is counted for the experiment (``late_steps.py``).
+        client is still connected (default: always): one that answered and is no longer
+        connected is not waited for, and a step taken without waiting for a connected one is
+        counted for the experiment (``late_steps.py``).
         :attr:`stop_requested` (a callable; the node's stop request) ends a wait early."""
         self._robots = robots
         self.timeout_s = float(timeout_s)
@@ -144,6 +146,15 @@ class StepLockstep:
                 left = deadline - time.monotonic()
                 if not missing or rospy.is_shutdown() or self.stop_requested():
                     return
+                gone = [r for r, n in missing if n > 0 and not self._connected(r)]
+                if gone:
+                    # a client that answered and whose connection has closed is dead: its
+                    # answer will not come, so the timeout (meant for a hung one) is not waited
+                    self._lost.update(gone)
+                    rospy.logwarn("lockstep: the %s client of %s has disconnected; stepping on "
+                                  "without waiting for it until it has answered every step "
+                                  "since", self.what, ", ".join(gone))
+                    continue
                 if left <= 0.0:
                     self._lost.update(r for r, _ in missing)
                     rospy.logwarn("lockstep: no %s from %s within %g s of wall time; stepping "
