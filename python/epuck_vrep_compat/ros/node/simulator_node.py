@@ -1,18 +1,18 @@
 """The simulator node ``/vrep``: parameters in, one simulation, its ROS faces, ``/clock``.
 
 Faces: the e-puck topic profile (``EpuckFace``, ``TfFace``, ``CameraFace``, ``LedFace``) and
-V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled streams).
-Our own services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused; in
-lock-step with a supervisor each after its answer to the last, as the loop's),
-``~pause``, ``~unpause`` and ``~reset`` (``std_srvs/Empty``), ``~rewind`` (:mod:`.rewind`).
+V-REP's legacy plugin (``VrepFace``: ``/vrep/info``, ``/vrep/simRos*``, enabled streams). Our own
+services: ``~step`` (``epuck_vrep_compat/StepSimulation``: N steps while paused; in lock-step with
+a supervisor each after its answer to the last, as the loop's), ``~pause``, ``~unpause`` and
+``~reset`` (``std_srvs/Empty``), ``~rewind`` (:mod:`.rewind`).
 
-Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in
-one list and after each step calls ``publish(step)`` on each (on idle passes
-``publish_idle(step)``). What a topic gets does not depend on the list's order: the node sends
-``/clock`` first and the step's ``/tf`` parts last, in their own order (``Step.send_tf``). Robots loaded, pasted or removed through ``/vrep`` change the
-simulation under its lock (``sim.lock``, which every step holds), between steps; the simulation then calls
-:meth:`SimulatorNode._on_robots_changed`, and every face follows (``sync()``) before the next
-step.
+Every face has the shape of :class:`~epuck_vrep_compat.ros.face.Face`; the node keeps them in one
+list and after each step calls ``publish(step)`` on each (on idle passes ``publish_idle(step)``).
+What a topic gets does not depend on the list's order: the node sends ``/clock`` first and the
+step's ``/tf`` parts last, in their own order (``Step.send_tf``). Robots loaded, pasted or removed
+through ``/vrep`` change the simulation under its lock (``sim.lock``, which every step holds),
+between steps; the simulation then calls :meth:`SimulatorNode._on_robots_changed`, and every face
+follows (``sync()``) before the next step.
 """
 import contextlib
 import time
@@ -255,18 +255,16 @@ class SimulatorNode:
 
     def spin(self, stop_requested=lambda: False):
         """Step at ``rtf`` times real time (or as fast as possible at 0) while running, until
-        ``stop_requested()`` (checked after every step) or rospy shuts down.
-
-        Messages are flushed before every sleep, so a simulation that keeps its schedule
-        delivers every step at once; one that runs flat out flushes every ``max_delay_s``.
-        A step late by up to ``_LAG_RESET_S`` is caught up (the next steps do not sleep); one
-        later than that restarts the schedule: the time is dropped, with a warning.
-        """
+        ``stop_requested()`` (checked after every step) or rospy shuts down. Messages are
+        flushed before every sleep, so a simulation that keeps its schedule delivers every step
+        at once; one that runs flat out flushes every ``max_delay_s``. A step late by up to
+        ``_LAG_RESET_S`` is caught up (the next steps do not sleep); one later than that
+        restarts the schedule: the time is dropped, with a warning. A pause or stop answered
+        while the loop waited to step wins: no step follows its answer."""
         period_s = self.params.step_s / self.params.rtf if self.params.rtf > 0 else 0.0
         if self._lockstep is not None:      # a stop ends its waits (this loop's, ~step's)
             self._lockstep.stop_requested = stop_requested
-        deadline = time.monotonic()
-        batch = self._batch
+        deadline, batch = time.monotonic(), self._batch
         while not rospy.is_shutdown() and not stop_requested():
             if not self.control.may_step():
                 with self._lock:
@@ -280,6 +278,8 @@ class SimulatorNode:
             if self._lockstep is not None:
                 self._lockstep.wait()      # the supervisor's answer to the last step
             with self._lock:
+                if self.control.state != RUNNING:   # a pause or stop answered since may_step()
+                    continue                        # wins: no step after its answer
                 if self._lockstep is not None:
                     self._lockstep.stepped()
                 self._guarded(self._step_and_publish)
