@@ -131,7 +131,7 @@ class Plan:
 
     def _plan_rostest(self, paths):
         for launch in paths:
-            name = os.path.basename(launch)[:-len(".test")]
+            name = launch_name(launch)
             if not matches_k(self.k, name):
                 continue
             # results apart per file: rostest removes a test's old result file by its
@@ -142,6 +142,11 @@ class Plan:
                 alone = bool(ALONE_MARK.search(f.read()))
             self.jobs.append(Job("rostest", f"rostest-{name}", argv, self.results,
                                  files=[launch], alone=alone))
+
+
+def launch_name(launch):
+    """A rostest file's name without its folder and ``.test``: its job's and results' name."""
+    return os.path.basename(launch)[:-len(".test")]
 
 
 def rostest_results(results, name):

@@ -64,10 +64,6 @@ def rostest_cases(repo, launch):
     return cases
 
 
-def launch_name(launch):
-    return os.path.basename(launch)[:-len(".test")]
-
-
 class Tally:
     """Passed and failed over every job; ``ok`` while each ran all it defines, none failed
     or skipped."""
@@ -107,7 +103,7 @@ def main(repo, results, say=print):
             launch = job["files"][0]
             for test_name, want in rostest_cases(repo, launch):
                 tally.add(f"rostest {os.path.basename(launch)} {test_name}",
-                          os.path.join(plan.rostest_results(results, launch_name(launch)),
+                          os.path.join(plan.rostest_results(results, plan.launch_name(launch)),
                                        "epuck_vrep_compat", f"rosunit-{test_name}.xml"), want)
         else:
             label = name[len("pytest-"):]
