@@ -10,6 +10,7 @@ import hashlib
 import json
 import math
 import os
+import struct
 import subprocess
 import sys
 
@@ -186,6 +187,33 @@ def test_libm_and_the_follow_reward_and_noise_in_every_layout():
     ids = np.arange(7, dtype=np.uint64)
     noise = hashed_normals(11, ids, 5, 3)
     assert bits(noise[4:5]) == bits(hashed_normals(11, ids[4:5], 5, 3))
+
+
+def test_the_cores_loops_give_the_bits_of_pythons_math():
+    """libm's C++ loops (``epuck_vrep_compat._libm``) call the C library's functions that ``math`` calls:
+    the same bits for every value ``math`` answers (ordinary, tiny, huge, signed zeros, near
+    the poles of atan2), in any layout; where ``math`` raises (exp's overflow, log of 0, cos of
+    inf) the loop gives the C library's inf or nan."""
+    r = rng()
+    x = np.concatenate([r.uniform(-10.0, 10.0, 4000), 1e3 * r.standard_normal(500),
+                        [0.0, -0.0, 1e-310, -1e-310, 1e300, -1e300, 709.7, 710.0, -745.2,
+                         math.pi / 2, -math.pi, np.inf, -np.inf, np.nan]])
+    y = r.permutation(x)
+    for f in (math.tanh, math.exp, math.log, math.cos, math.sin, math.atan2):
+        args = (y, x) if f is math.atan2 else (np.abs(x) if f is math.log else x,)
+        got = libm(f, *(every_other(a) for a in args))
+        for k, values in enumerate(zip(*args)):
+            try:
+                want = f(*values)
+            except (OverflowError, ValueError):
+                assert f in (math.exp, math.log, math.cos, math.sin) and (
+                    np.isinf(got[k]) or np.isnan(got[k])), (f.__name__, values, got[k])
+                continue
+            assert struct.pack("<d", want) == struct.pack("<d", got[k]), (f.__name__, values)
+    assert libm(math.atan2, np.ones((2, 1)), np.arange(3.0)).shape == (2, 3)
+    assert libm(math.tanh, np.zeros((0, 3))).shape == (0, 3)
+    assert libm(math.tanh, 0.5) == math.tanh(0.5)
+    assert libm(math.erf, [0.5, 1.0]).tolist() == [math.erf(0.5), math.erf(1.0)]   # no loop
 
 
 # What the child computes, in this process and in one whose numpy has only the baseline SIMD.

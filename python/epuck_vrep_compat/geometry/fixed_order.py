@@ -11,12 +11,20 @@ layout and alignment. Elementwise ``+``, ``-``, ``*``, ``/`` and ``sqrt`` are ex
   processors. :func:`weighted_sums` adds in one fixed order with elementwise operations;
 * numpy's own transcendental kernels (``tanh``, ``exp``, ``log``, ``cos``, ``sin``,
   ``arctan2``, ... : SVML or numpy's polynomials on AVX2 or AVX-512, the C library below
-  them): :func:`libm` applies Python's ``math`` (the C library's function, the one numpy uses
-  with its dispatch limited to the baseline) element by element.
+  them): :func:`libm` applies the C library's function (the one Python's ``math`` calls, and
+  numpy with its dispatch limited to the baseline) element by element: in a C++ loop
+  (``epuck_vrep_compat._libm``, a module of its own: not the simulator's core) for tanh, exp,
+  log, cos, sin and atan2, else through ``math`` itself.
 """
 import math
 
 import numpy as np
+
+from epuck_vrep_compat._libm import atan2, cos, exp, log, sin, tanh
+
+# math's function -> a C++ loop over an array calling the same C library function
+_LOOPS = {math.tanh: tanh, math.exp: exp, math.log: log, math.cos: cos, math.sin: sin,
+          math.atan2: atan2}
 
 
 def weighted_sums(x, weights) -> np.ndarray:
@@ -43,6 +51,12 @@ def weighted_sums(x, weights) -> np.ndarray:
 def libm(function, *arrays) -> np.ndarray:
     """``function`` (one of ``math``'s: ``math.tanh``, ``math.atan2``, ...) applied element by
     element to the broadcast ``arrays``, as float64 of their broadcast shape."""
+    loop = _LOOPS.get(function)
+    if loop is not None:
+        if len(arrays) == 1:
+            return loop(np.asarray(arrays[0], dtype=float))
+        return loop(*(np.ascontiguousarray(a) for a in
+                      np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays))))
     if len(arrays) == 1:
         a = np.asarray(arrays[0], dtype=float)
         return np.fromiter(map(function, a.ravel().tolist()), float, a.size).reshape(a.shape)
