@@ -112,10 +112,14 @@ def test_remove_object_takes_robots_whole_and_static_objects_out(backend):
 
 
 def test_a_path_outside_the_model_folders_is_refused_unread(tmp_path):
-    """Anyone who reaches the master may call simRosLoadModel: only the library's folders."""
+    """Anyone who reaches the master may call simRosLoadModel: only the library's folders, and
+    the path is refused before the file is read (a file that would fail to read, not UTF-8,
+    is refused as outside, not as unreadable)."""
     secret = tmp_path / "secret.yaml"
     secret.write_text("robot: epuck\n")
-    for name in (str(secret), str(tmp_path / "missing.yaml"),
+    unreadable = tmp_path / "unreadable.yaml"
+    unreadable.write_bytes(b"\xff\xfe robot: epuck\n")
+    for name in (str(secret), str(unreadable), str(tmp_path / "missing.yaml"),
                  os.path.join(MODELS, "..", "..", os.path.relpath(str(secret), "/"))):
         with pytest.raises(ModelFileError, match="outside the model folders.*~model_dirs"):
             ModelLibrary(MODELS).resolve(name)
