@@ -7,7 +7,7 @@ itself (a helper of a test folder runs that folder's tier). A changed module of 
 package also runs every core and unit test file that imports its package. A changed file that
 no key covers runs the whole suite: better slow than blind."""
 import fnmatch
-import glob
+import functools
 import os
 import subprocess
 
@@ -49,17 +49,22 @@ def expand(repo, target):
             if fnmatch.fnmatch(p, target) or p == target or p.startswith(target.rstrip("/") + "/")]
 
 
-def importers(repo, path):
-    """Core and unit test files that import the package of a changed module."""
-    package = os.path.dirname(os.path.relpath(path, "python")).replace("/", ".")
-    found = []
+@functools.lru_cache(maxsize=None)
+def _test_texts(repo):
+    """(path, text) of every core and unit test file, read once for all changed modules."""
+    texts = []
     for tier in ("core", "unit"):
         for test in tier_files(repo, tier):
             with open(os.path.join(repo, test), encoding="utf-8") as f:
-                text = f.read()
-            if f"{package} import" in text or f"import {package}" in text or f"{package}." in text:
-                found.append(test)
-    return found
+                texts.append((test, f.read()))
+    return tuple(texts)
+
+
+def importers(repo, path):
+    """Core and unit test files that import the package of a changed module."""
+    package = os.path.dirname(os.path.relpath(path, "python")).replace("/", ".")
+    return [test for test, text in _test_texts(repo)
+            if f"{package} import" in text or f"import {package}" in text or f"{package}." in text]
 
 
 def selection(repo, ref):
