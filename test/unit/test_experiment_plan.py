@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from epuck_vrep_compat.experiment import launch_files, plan, spec
+from epuck_vrep_compat.experiment.cli import seeds_note
 from epuck_vrep_compat.experiment.spec_checks import Lines
 from repo import REPO, fixtures_of
 
@@ -284,3 +285,13 @@ def test_find_node_finds_an_executable_as_rosrun_does():
         os.path.join(REPO, "scripts", "wander")
     assert launch_files.find_node("epuck_vrep_compat", "no_such_node") is None
     assert launch_files.find_node("no_such_package", "wander") is None
+
+
+def test_more_seeds_asked_than_the_spec_has_says_so_and_how_to_add_them():
+    """``--seeds N`` beyond the spec's seeds runs the spec's and says that no new one runs and
+    which key adds them; within them it says nothing."""
+    assert seeds_note(3, [0, 1, 2]) is None
+    assert seeds_note(1, [0, 1, 2]) is None
+    note = seeds_note(50, list(range(30)))
+    assert "--seeds 50" in note and "(30)" in note and "no new ones" in note
+    assert "'seeds: 50'" in note

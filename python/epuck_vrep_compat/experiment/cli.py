@@ -42,6 +42,17 @@ def spec_info(spec):
             "metrics": None, "reference": spec.get("reference") or {}}
 
 
+def seeds_note(asked, seeds):
+    """What ``--seeds asked`` does when the spec has fewer ``seeds``, or None: it only takes
+    the spec's first N seeds and adds none (the spec says which seeds an experiment has)."""
+    if asked <= len(seeds):
+        return None
+    return (f"--seeds {asked} asks for more seeds than the spec has ({len(seeds)}): it runs "
+            f"those {len(seeds)} and no new ones; to run more, raise the spec's 'seeds' "
+            f"(e.g. 'seeds: {asked}') and run the same command again (the rows already there "
+            f"are kept)")
+
+
 def write_report(store, spec):
     info = spec_info(spec)
     rows = store.rows
@@ -66,6 +77,9 @@ def main(argv=None):
         print(f"experiment: {e}", file=sys.stderr)
         return 2
     if getattr(args, "seeds", None):
+        note = seeds_note(args.seeds, spec["seeds"])
+        if note:
+            print(f"experiment: {note}", file=sys.stderr)
         spec["seeds"] = spec["seeds"][:args.seeds]
     tasks = plan.tasks(spec)
     if args.command == "check":
