@@ -11,7 +11,7 @@ import uuid
 
 import pytest
 
-from epuck_vrep_compat.experiment import isolation
+from epuck_vrep_compat.experiment import isolation, shepherd
 
 SLEEPER = "import time; time.sleep(60)"
 STUBBORN = ("import signal, sys, time; signal.signal(signal.SIGTERM, signal.SIG_IGN); "
@@ -106,3 +106,17 @@ def test_sweep_ends_the_marked_and_counts_them(start):
     assert [p.wait(5.0) for p in marked] == [-signal.SIGTERM] * 2
     assert bystander.poll() is None
     assert isolation.sweep(isolation.RUN_MARKER, mine, grace_s=5.0) == 0
+
+
+def test_a_launch_that_outlives_sigint_keeps_its_exit_status():
+    """A roslaunch still running after SIGINT's grace (a loaded machine) is ended by SIGTERM,
+    and its status is the one recorded: the shepherd's sweep of its other children must not
+    reap it first (a timed-out run's row had no exit code beside a CPU hog)."""
+    launch = subprocess.Popen([sys.executable, "-c", "import signal, time; "
+                               "signal.signal(signal.SIGINT, signal.SIG_IGN); "
+                               "print('ready', flush=True); time.sleep(60)"],
+                              stdout=subprocess.PIPE, text=True)
+    assert launch.stdout.readline().strip() == "ready"
+    left, killed = shepherd.end_everything(launch, uuid.uuid4().hex, sigint_grace_s=0.5)
+    assert launch.pid in left and killed == []          # SIGTERM was enough
+    assert launch.returncode == -signal.SIGTERM

@@ -21,6 +21,7 @@ import time
 from epuck_vrep_compat.experiment import isolation
 
 PR_SET_CHILD_SUBREAPER = 36
+SIGINT_GRACE_S = 20.0     # roslaunch's time to end its nodes on SIGINT before SIGTERM [s]
 
 
 class Stop(Exception):
@@ -58,10 +59,11 @@ def _reap():
             return
 
 
-def end_everything(launch, run_marker):
+def end_everything(launch, run_marker, sigint_grace_s=SIGINT_GRACE_S):
     """SIGINT to roslaunch and every process of the run at once (each node shuts down as on
     Ctrl-C, bags close; all together, not one after the other as roslaunch would), then
-    SIGTERM and SIGKILL to whatever is left."""
+    SIGTERM and SIGKILL to whatever is left after ``sigint_grace_s``; roslaunch is reaped as
+    ``launch`` (its status stays in ``launch.returncode``)."""
     if launch.poll() is None:
         for pid in [launch.pid] + _descendants():
             try:
@@ -69,12 +71,19 @@ def end_everything(launch, run_marker):
             except OSError:
                 pass
         try:
-            launch.wait(20.0)
+            launch.wait(sigint_grace_s)
         except subprocess.TimeoutExpired:
             pass
     left = sorted(set(_descendants()) | set(isolation.processes_marked(
         isolation.RUN_MARKER, run_marker)))
     killed = isolation.terminate(left, grace_s=5.0)
+    # roslaunch's own status first (SIGTERM's or SIGKILL's when it outlived SIGINT, e.g. on
+    # a loaded machine): the sweep below reaps any child, and one it reaped would leave the
+    # run without roslaunch's exit status
+    try:
+        launch.wait(5.0)
+    except subprocess.TimeoutExpired:
+        pass
     deadline = time.monotonic() + 5.0
     while time.monotonic() < deadline:
         _reap()
