@@ -41,7 +41,8 @@ def test_crashing_and_silent_code_are_failed_rows(tmp_path):
     assert silent["log_tail"].strip()
 
     ok = by_mode["ok"]
-    assert ok["status"] == "ok" and ok["attempts"] == 1 and not ok["error"], h.describe([ok])
+    assert ok["status"] == "ok" and ok["attempts"] == 1 and not ok["error"], \
+        h.describe([ok]) + "\n" + stderr[-3000:]       # (the CLI says why an attempt failed)
     assert ok["late_steps"] == 0, h.describe([ok])
 
     # the tables and the report have the failed rows too

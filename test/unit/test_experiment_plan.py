@@ -3,6 +3,7 @@ seeded random samples), where each varied name goes, what the runner forces on t
 the run keys; then the generated launch file parsed back, and how launch files and nodes are
 found."""
 import copy
+import io
 import os
 import re
 import shlex
@@ -13,6 +14,7 @@ import yaml
 
 from epuck_vrep_compat.experiment import launch_files, plan, spec
 from epuck_vrep_compat.experiment.cli import seeds_note
+from epuck_vrep_compat.experiment.engine import Progress
 from epuck_vrep_compat.experiment.spec_checks import Lines
 from repo import REPO, fixtures_of
 
@@ -295,3 +297,12 @@ def test_more_seeds_asked_than_the_spec_has_says_so_and_how_to_add_them():
     note = seeds_note(50, list(range(30)))
     assert "--seeds 50" in note and "(30)" in note and "no new ones" in note
     assert "'seeds: 50'" in note
+
+
+def test_a_retried_run_says_why_its_first_attempt_failed():
+    """The row keeps only the last attempt's error: the progress says the first one's."""
+    stream = io.StringIO()
+    Progress(3, 0, stream=stream).retry({"run_key": "abc", "attempts": 1, "status": "failed",
+                                          "error": "timed out after 8 s of wall time"})
+    assert stream.getvalue() == ("experiment: run abc attempt 1 failed: timed out after 8 s of "
+                                 "wall time; running it again\n")

@@ -60,6 +60,16 @@ class Progress:
                   f"ETA {eta:.0f} s){': ' + row['error'] if row.get('error') else ''}",
                   file=self.stream, flush=True)
 
+    def retry(self, row):
+        """A failed attempt that runs again: why, so that a row that needed two attempts is
+        not a mystery (the row keeps only the last attempt's error)."""
+        text = (f"experiment: run {row['run_key']} attempt {row.get('attempts', 1)} "
+                f"{row['status']}: {row.get('error') or 'no error given'}; running it again")
+        if self.bar is not None:
+            self.bar.write(text, file=self.stream)
+        else:
+            print(text, file=self.stream, flush=True)
+
     def close(self):
         if self.bar is not None:
             self.bar.close()
@@ -139,6 +149,7 @@ def run_all(jobs, scheduler=None, workers=None, stream=sys.stderr):
             chunk, store = pending.pop(future.key)
             for task, row in zip(chunk, _rows_of(future, chunk)):
                 if row["status"] != "ok" and task.attempt < MAX_ATTEMPTS:
+                    progress.retry(row)
                     submit([task.with_attempt(task.attempt + 1)], store)      # again, alone
                     continue
                 store.add(row)
