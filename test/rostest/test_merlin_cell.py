@@ -42,6 +42,8 @@ TABLE_TOP_Z = 0.75
 STEP_S = 0.05                      # the cell's simulation step (merlin_cell.launch)
 NODE_HZ = 20.0                     # the thesis nodes' loops and the simulator's joint states
 LASER_HZ = 10.0
+# the scanner's range noise (worlds/merlin_cell.yaml): SD max(0.01 m, 1 % of the range)
+LASER_SIGMA_MIN_M, LASER_SIGMA_REL = 0.01, 0.01
 RATE_STEPS = 80                    # 4 s of simulated time, stepped in lock-step
 STEP_ANSWER_TIMEOUT_S = 30.0       # wall time a step's messages may take: liveness only
 FLOATS = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
@@ -275,7 +277,12 @@ class MerlinCell(unittest.TestCase):
             window = [r for r in scan.ranges[max(0, i - spread):i + spread + 1]
                       if math.isfinite(r)]
             expected = distance - OPERATOR_RADIUS_M
-            if window and abs(min(window) - expected) < 0.05 + walked:
+            # the nearest of the window's noisy ranges lies below the body's by up to about
+            # 3 SD (0.12 m at 4 m: a fixed 0.05 m was 1.25 SD there, and beside a CPU hog,
+            # whose pauses land elsewhere on his walk, 7 of 20 samples missed it); 0.05 m more
+            # for the beams' spacing on the body
+            sigma = max(LASER_SIGMA_MIN_M, LASER_SIGMA_REL * expected)
+            if window and abs(min(window) - expected) < 0.05 + 3.0 * sigma + walked:
                 matches += 1
         call("simRosStartSimulation")
         scans.unregister()
