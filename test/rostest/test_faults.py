@@ -7,6 +7,7 @@ and a simulator whose master restarts or dies exits with status 3 instead of liv
 zombie (checked on a master and simulator of its own)."""
 import os
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -109,6 +110,22 @@ class Faults(unittest.TestCase):
         # not stalled: the clock went on (a blocked write would stop it for good)
         self.assertGreater(advanced_s, MIN_ADVANCE_S)
         self.assertLess(growth, 50.0, f"simulator memory grew {growth:.1f} MB in 60 s")
+
+    def test_b0_a_client_stalled_in_its_handshake_blocks_no_other(self):
+        """A client that opens a TCPROS connection to the simulator and sends nothing (a stopped
+        or starved subscriber): a new subscriber still connects and gets data. rospy reads a
+        handshake in its accept thread with no time-out; the simulator hands each to a thread
+        of its own (after a respawn beside a CPU hog a subscriber had waited 60 s)."""
+        uri = rosgraph.Master("/faults").lookupNode(NODE)
+        _code, _msg, proto = xmlrpc.client.ServerProxy(uri).requestTopic(
+            "/faults", "/ePuck6/proximity2", [["TCPROS"]])
+        stalled = socket.create_connection((proto[1], proto[2]))    # and says nothing
+        try:
+            fresh = Collector("/ePuck7/proximity3", Range)    # a topic not subscribed before
+            fresh.wait(5, timeout_s=60)
+            fresh.unregister()
+        finally:
+            stalled.close()
 
     def test_b_a_killed_client_restarts_and_gets_the_latched_state(self):
         first = start_client("--mode", "client", "--set-led")

@@ -17,7 +17,8 @@ from epuck_vrep_compat.ros.node.master_watch import EXIT_MASTER_LOST, MasterWatc
 from epuck_vrep_compat.ros.node.params import ParamError, read_params
 from epuck_vrep_compat.ros.node.simulator_node import SimulatorNode
 from epuck_vrep_compat.ros.node.stop import EXIT_FAILED, EXIT_STOPPED, StopRequest, stop_node
-from epuck_vrep_compat.ros.transport.accept_queue import (raise_descriptor_limit,
+from epuck_vrep_compat.ros.transport.accept_queue import (handshake_in_own_thread,
+                                                          raise_descriptor_limit,
                                                           share_connection_poller,
                                                           widen_accept_queue)
 from epuck_vrep_compat.ros.transport.registration import BulkRegistration
@@ -37,6 +38,7 @@ def main():
     rospy.init_node(NODE_NAME, disable_signals=True)
     stop = StopRequest()         # SIGINT and SIGTERM end the loop, then stop_node
     widen_accept_queue()         # a subscriber to every topic at once loses none
+    handshake_in_own_thread()    # and one that stalls in its handshake blocks no other
     serve_logger_services_safely()
     # watching from the start: rospy retries a vanished master forever while registering
     MasterWatch(first_master_pid)

@@ -36,6 +36,7 @@ seconds. Connections not yet accepted are refused; the thread blocked in ``accep
 import errno
 import resource
 import socket
+import threading
 import time
 
 import rosgraph.xmlrpc
@@ -135,6 +136,24 @@ def widen_accept_queue(backlog: int = ACCEPT_QUEUE) -> bool:
         sock.listen(backlog)                   # on a listening socket: a new queue length
     return widened
 
+
+
+def handshake_in_own_thread() -> bool:
+    """After ``init_node``: each accepted TCPROS connection's handshake runs in a thread of its
+    own. rospy's accept thread reads a new connection's header itself, with no time-out, so one
+    client that connects and then stalls (a stopped or starved subscriber, re-notified of this
+    node) kept every later subscriber from connecting: after a respawn beside a CPU hog, a
+    subscriber waited 60 s in vain. False when rospy has no TCPROS server."""
+    server = _tcpros_server()
+    if server is None or getattr(server, "_evc_threaded", False):
+        return server is not None
+    handler = server.inbound_handler
+
+    def spawn(sock, addr):
+        threading.Thread(target=handler, args=(sock, addr), daemon=True,
+                         name="tcpros-handshake").start()
+    server.inbound_handler, server._evc_threaded = spawn, True
+    return True
 
 
 def stop_accepting():
