@@ -12,6 +12,7 @@ import unittest
 
 import hypothesis.strategies as st
 import numpy as np
+import rosgraph
 import rospkg
 import rospy
 import rostest
@@ -74,6 +75,14 @@ def euler_matrix(a, b, g):
     ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
     rz = np.array([[cg, -sg, 0], [sg, cg, 0], [0, 0, 1]])
     return rx @ ry @ rz
+
+
+def recording(topics):
+    """Whether a rosbag recorder (its node is /record_<pid>_<time>, the test's only one) has
+    subscribed to every topic of ``topics`` at the master."""
+    _pubs, subs, _srvs = rosgraph.Master("/test_merlin_cell").getSystemState()
+    by_topic = dict(subs)
+    return all(any(n.startswith("/record_") for n in by_topic.get(t, [])) for t in topics)
 
 
 class MerlinCell(unittest.TestCase):
@@ -357,7 +366,12 @@ class MerlinCell(unittest.TestCase):
             bag = os.path.join(tmp, "topics.bag")
             record = subprocess.Popen(["rosbag", "record", "-O", bag] + topics,
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            time.sleep(2.0)                   # subscriptions connected
+            # recording from when the recorder has subscribed to every topic (a fixed 2 s of
+            # wall time was too short beside a CPU hog: 6 blob messages in 8 s)
+            deadline = time.monotonic() + 60.0
+            while not recording(topics) and time.monotonic() < deadline:
+                time.sleep(0.1)
+            self.assertTrue(recording(topics), "rosbag record never subscribed")
             wait_sim_time(8.0)                # the operator walks ~10 m: seen by both cameras
             record.send_signal(signal.SIGINT)
             record.wait(timeout=30)
