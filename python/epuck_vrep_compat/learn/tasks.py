@@ -10,8 +10,9 @@ poses, which robots learn and which are scripted, the observation layout and the
   neighbours within 1.5 m. Reward ``1 - min(1, mean distance to the other robots / 1 m)``.
 * ``follow_leader``: a 1 m square; robot 0 is a scripted leader (the Braitenberg avoider at
   a quarter of the top speed: ``worlds.py`` sets its bias to ``arctanh(0.25)``), the learner
-  follows it; the observation adds the nearest neighbour within 0.5 m. Reward ``exp(-((d - 0.15 m) / 0.1 m)^2)`` for the distance ``d`` to the leader, minus 1
-  on a step that ends in contact.
+  follows it; the observation adds the nearest neighbour within 0.5 m. Reward
+  ``exp(-((d - 0.15 m) / 0.1 m)^2)`` for the distance ``d`` to the leader, minus 1 on a step
+  that ends in contact.
 
 In the single-robot environments the first learning robot is the agent and the others are
 scripted (the Braitenberg avoider, :func:`epuck_vrep_compat.policy.controller.braitenberg`);
